@@ -1,0 +1,239 @@
+#include "block_preconditioner.h"
+
+#include "cheap_simple.h"
+#include "hierarchy_utils.h"
+#include "project_factories.h"
+#include "superlu_direct.h"
+
+#include <MueLu_Hierarchy.hpp>
+#include <MueLu_Level.hpp>
+#include <MueLu_ParameterListInterpreter.hpp>
+
+#include <Teuchos_XMLParameterListHelpers.hpp>
+#include <Teuchos_Time.hpp>
+#include <Xpetra_BlockedCrsMatrix.hpp>
+#include <Xpetra_MapFactory.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <map>
+
+namespace multigrid
+{
+  namespace
+  {
+    /// One V-cycle of a MueLu hierarchy as an Xpetra operator (right preconditioner for Belos).
+    class HierarchyOperator : public Xpetra::Operator<SC, LO, GO, NO>
+    {
+    public:
+      HierarchyOperator(RCP<Hierarchy> H, RCP<const ::multigrid::Map> map) : H_(std::move(H)), map_(std::move(map)) {}
+      RCP<const ::multigrid::Map> getDomainMap() const override { return map_; }
+      RCP<const ::multigrid::Map> getRangeMap() const override { return map_; }
+      void apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode,
+                 SC alpha, SC beta) const override
+      {
+        if (mode != Teuchos::NO_TRANS)
+          throw std::logic_error("HierarchyOperator: transposed apply is not supported");
+        if (alpha == 1.0 && beta == 0.0)
+          {
+            Y.putScalar(0.0);
+            H_->Iterate(X, Y, 1, true);
+            return;
+          }
+        auto Z = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(Y.getMap(), Y.getNumVectors(), true);
+        H_->Iterate(X, *Z, 1, true);
+        Y.update(alpha, *Z, beta);
+      }
+      void residual(const ::multigrid::MultiVector&, const ::multigrid::MultiVector&,
+                    ::multigrid::MultiVector&) const override
+      {
+        throw std::logic_error("HierarchyOperator: residual() is not defined for a preconditioner");
+      }
+      
+    private:
+      RCP<Hierarchy> H_;
+      RCP<const ::multigrid::Map> map_;
+    };
+
+    std::string string_or(const Teuchos::ParameterList& list, const std::string& name, const std::string& fallback)
+    {
+      return list.isParameter(name) ? list.get<std::string>(name) : fallback;
+    }
+
+    void fill_levels(PreconditionerInfo& info, Hierarchy& H)
+    {
+      long long total = 0;
+      for (const auto& [rows, nnz] : level_sizes(H))
+        {
+          info.levels.push_back({rows, nnz, {}});
+          total += nnz;
+        }
+      if (!info.levels.empty() && info.levels[0].nonzeros > 0)
+        info.operator_complexity = static_cast<double>(total) / info.levels[0].nonzeros;
+    }
+
+    /// Rethrows MueLu/Teuchos setup failures as a one-line InputError naming the preset.
+    template <typename F>
+    auto with_preset_context(const std::string& preset, F&& f)
+    {
+      try
+        {
+          return f();
+        }
+      catch (const InputError&)
+        {
+          throw;
+        }
+      catch (const std::exception& e)
+        {
+          std::string what = e.what();
+          // keep the innermost message line: MueLu/Teuchos prepend file and line information
+          std::string line, last;
+          std::istringstream s(what);
+          while (std::getline(s, line))
+            if (!line.empty() && line.find_first_not_of(" \t") != std::string::npos)
+              last = line;
+          throw InputError("preset '" + preset + "': setup failed: " + last);
+        }
+    }
+
+    RCP<Hierarchy> build_saddle_point_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu)
+    {
+      if (system.n_blocks() != 2)
+        throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
+                         std::to_string(system.n_blocks()) + " blocks");
+      const auto& interface = system.interface();
+      auto        comm      = system.comm();
+
+      Teuchos::ParameterList list = muelu;
+      MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, comm,
+                                                                  Teuchos::rcp(new ProjectFactoryFactory()));
+      RCP<Hierarchy> H = interpreter.CreateHierarchy();
+      H->IsPreconditioner(true);
+      auto L0 = H->GetLevel(0);
+      L0->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
+      L0->Set("Nullspace1", system.nullspace_or_translations(0));
+      L0->Set("Nullspace2", system.nullspace_or_translations(1));
+      L0->Set("DualNodeID2PrimalNodeID",
+              Teuchos::rcp(new std::map<LO, LO>(interface.dual_to_primal_node)));
+      L0->Set("Primal interface DOF map", interface.primal_interface_dofs);
+      RCP<const Map> segregation = interface.segregation_dofs;
+      if (segregation.is_null()) // nothing to cut: an empty set keeps every entry
+        segregation = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, 0, 0, 0, comm);
+      L0->Set("segregation dofs", segregation);
+      interpreter.SetupHierarchy(*H);
+      return H;
+    }
+  } // namespace
+
+  RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
+                                              const RCP<MultiVector>& nullspace,
+                                              const Teuchos::ParameterList& parameters)
+  {
+    Teuchos::ParameterList list = parameters;
+    if (!list.isParameter("number of equations"))
+      list.set("number of equations", dofs_per_node);
+    A->SetFixedBlockSize(dofs_per_node);
+    MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, A->getRowMap()->getComm());
+    RCP<Hierarchy> H = interpreter.CreateHierarchy();
+    H->IsPreconditioner(true);
+    H->GetLevel(0)->Set("A", A);
+    if (!nullspace.is_null())
+      H->GetLevel(0)->Set("Nullspace", nullspace);
+    interpreter.SetupHierarchy(*H);
+    return H;
+  }
+
+  std::vector<std::pair<long long, long long>> level_sizes(Hierarchy& H)
+  {
+    std::vector<std::pair<long long, long long>> sizes;
+    for (int l = 0; l < H.GetNumLevels(); ++l)
+      {
+        auto level = H.GetLevel(l);
+        if (!level->IsAvailable("A"))
+          break;
+        auto A = level->Get<RCP<Matrix>>("A");
+        sizes.emplace_back(static_cast<long long>(A->getGlobalNumRows()),
+                           static_cast<long long>(A->getGlobalNumEntries()));
+      }
+    return sizes;
+  }
+
+  BlockPreconditioner::BlockPreconditioner(const BlockSystem& system, const Preset& preset)
+  {
+    info_.preset = preset.name;
+    info_.kind   = preset.kind;
+    Teuchos::Time timer("setup");
+    timer.start(true);
+    const auto& p = preset.parameters;
+
+    if (preset.kind == "direct")
+      {
+        auto direct = with_preset_context(preset.name, [&] {
+          return Teuchos::rcp(new DirectSolverOperator(system.merged_matrix()));
+        });
+        info_.coarse_solver = "SuperLU (whole system)";
+        info_.notes.push_back("L+U nonzeros " + std::to_string(direct->solver().factor_nonzeros()));
+        op_ = direct;
+      }
+    else if (preset.kind == "cheapsimple")
+      {
+        auto cs = with_preset_context(preset.name, [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
+        long long total = 0, fine = 0;
+        for (const auto& [rows, nnz] : cs->primal_levels())
+          {
+            info_.levels.push_back({rows, nnz, {}});
+            total += nnz;
+            fine = fine ? fine : nnz;
+          }
+        info_.operator_complexity = fine ? static_cast<double>(total) / fine : 1.0;
+        info_.notes.push_back("levels are those of the inner primal solver");
+        info_.notes.push_back("Schur complement nonzeros " + std::to_string(cs->schur_nonzeros()));
+        info_.coarse_solver = "primal: " + string_or(p.sublist("primal solver"), "coarse: type", "KLU2");
+        op_ = cs;
+      }
+    else if (preset.kind == "amg")
+      {
+        if (system.n_blocks() != 1)
+          throw InputError("preset '" + preset.name + "' is a single-field AMG, but the system has " +
+                           std::to_string(system.n_blocks()) + " blocks (use a saddle-point or cheapsimple preset)");
+        auto H = with_preset_context(preset.name, [&] {
+          return build_single_field_hierarchy(system.merged_matrix(), system.block(0).dofs_per_node,
+                                              system.nullspace_or_translations(0), p.sublist("MueLu"));
+        });
+        fill_levels(info_, *H);
+        info_.coarse_solver = string_or(p.sublist("MueLu"), "coarse: type", "KLU2");
+        op_ = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
+      }
+    else if (preset.kind == "saddle-point-amg" || preset.kind == "muelu")
+      {
+        Teuchos::ParameterList muelu;
+        if (preset.kind == "saddle-point-amg")
+          {
+            const std::string xml = expand_template(preset, system.block(0).dofs_per_node,
+                                                    system.n_blocks() > 1 ? system.block(1).dofs_per_node : 1);
+            muelu = *Teuchos::getParametersFromXmlString(xml);
+            info_.coarse_solver = p.sublist("template parameters").get<std::string>("COARSE_SOLVER");
+          }
+        else
+          {
+            muelu = p;
+            muelu.remove("kind", false);
+          }
+        auto H = with_preset_context(preset.name, [&] { return build_saddle_point_hierarchy(system, muelu); });
+        fill_levels(info_, *H);
+        for (int l = 0; l < H->GetNumLevels(); ++l)
+          {
+            auto bA = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(H->GetLevel(l)->Get<RCP<Matrix>>("A"));
+            if (!bA.is_null() && l < static_cast<int>(info_.levels.size()))
+              for (std::size_t k = 0; k < bA->Rows(); ++k)
+                info_.levels[l].block_rows.push_back(bA->getRangeMap(k)->getGlobalNumElements());
+          }
+        op_ = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
+      }
+    else
+      throw InputError("preset '" + preset.name + "': unknown kind '" + preset.kind + "'");
+    info_.setup_seconds = timer.stop();
+  }
+
+  BlockPreconditioner::~BlockPreconditioner() = default;
+} // namespace multigrid

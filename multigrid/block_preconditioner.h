@@ -1,0 +1,50 @@
+// BlockPreconditioner: the one class that hides MueLu. Built from a BlockSystem and a Preset, it is
+// an Xpetra operator approximating A^-1 (one V-cycle, one CheapSIMPLE application, or a direct
+// solve) plus a description of what was built: levels, sizes, operator complexity, setup time.
+#pragma once
+
+#include "block_system.h"
+#include "presets.h"
+
+#include <Xpetra_Operator.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace multigrid
+{
+  struct LevelInfo
+  {
+    long long rows     = 0;
+    long long nonzeros = 0;
+    std::vector<long long> block_rows;   ///< per block, for blocked hierarchies
+  };
+
+  struct PreconditionerInfo
+  {
+    std::string            preset;
+    std::string            kind;
+    double                 setup_seconds = 0.0;
+    std::vector<LevelInfo> levels;           ///< level 0 = fine; empty for direct/cheapsimple outer
+    double                 operator_complexity = 1.0;
+    std::string            coarse_solver;
+    std::vector<std::string> notes;          ///< e.g. the inner solvers of CheapSIMPLE
+  };
+
+  class BlockPreconditioner
+  {
+  public:
+    /// Builds (sets up) the preconditioner. Throws InputError if the preset does not fit the
+    /// system (e.g. a saddle-point preset on a system without interface data).
+    BlockPreconditioner(const BlockSystem& system, const Preset& preset);
+    ~BlockPreconditioner();
+
+    RCP<Xpetra::Operator<SC, LO, GO, NO>> op() const { return op_; }
+    const PreconditionerInfo&             info() const { return info_; }
+
+  private:
+    RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;
+    PreconditionerInfo                    info_;
+  };
+} // namespace multigrid

@@ -1,0 +1,276 @@
+#include "block_system.h"
+
+#include <Xpetra_BlockedCrsMatrix.hpp>
+#include <Xpetra_CrsMatrixWrap.hpp>
+#include <Xpetra_ImportFactory.hpp>
+#include <Xpetra_MapExtractorFactory.hpp>
+#include <Xpetra_MapFactory.hpp>
+#include <Xpetra_MapUtils.hpp>
+#include <Xpetra_MatrixFactory.hpp>
+#include <Xpetra_MatrixUtils.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
+#include <Xpetra_StridedMap.hpp>
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace multigrid
+{
+  namespace
+  {
+    /// True on every rank iff the local element lists of both maps coincide on every rank.
+    bool same_distribution(const Map& a, const Map& b)
+    {
+      int local_same = 1;
+      if (a.getNodeNumElements() != b.getNodeNumElements())
+        local_same = 0;
+      else
+        {
+          const auto ea = a.getNodeElementList(), eb = b.getNodeElementList();
+          for (std::size_t i = 0; i < ea.size() && local_same; ++i)
+            local_same = (ea[i] == eb[i]);
+        }
+      int global_same = 0;
+      Teuchos::reduceAll(*a.getComm(), Teuchos::REDUCE_MIN, local_same, Teuchos::outArg(global_same));
+      return global_same == 1;
+    }
+  } // namespace
+
+  BlockSystem BlockSystem::from_merged(RCP<const Comm>                     comm,
+                                       std::vector<BlockInfo>              blocks,
+                                       const std::vector<std::vector<GO>>& owned_block_gids,
+                                       RCP<Matrix>                         merged_matrix,
+                                       RCP<MultiVector>                    rhs)
+  {
+    if (blocks.empty() || blocks.size() != owned_block_gids.size())
+      throw InputError("BlockSystem: expected one list of owned DOFs per block, got " +
+                       std::to_string(owned_block_gids.size()) + " for " +
+                       std::to_string(blocks.size()) + " blocks");
+    BlockSystem system;
+    system.comm_ = comm;
+
+    // Block k owns the global ids [offset_k, offset_k + n_k): strided maps with the block's DOFs
+    // per node, so that MueLu's SubBlockAFactory can recover the striding on every block.
+    GO offset = 0;
+    std::vector<RCP<const Map>> sub_maps;
+    for (std::size_t k = 0; k < blocks.size(); ++k)
+      {
+        BlockInfo& b = blocks[k];
+        if (b.dofs_per_node < 1 || b.global_size % b.dofs_per_node != 0)
+          throw InputError("BlockSystem: block '" + b.name + "' has " +
+                           std::to_string(b.global_size) + " DOFs, not a multiple of " +
+                           std::to_string(b.dofs_per_node) + " DOFs per node");
+        b.offset = offset;
+        const auto& gids = owned_block_gids[k];
+        if (gids.size() % b.dofs_per_node != 0)
+          throw InputError("BlockSystem: block '" + b.name + "': owned DOFs on rank " +
+                           std::to_string(comm->getRank()) + " do not form whole nodes");
+        for (GO g : gids)
+          if (g < offset || g >= offset + b.global_size)
+            throw InputError("BlockSystem: block '" + b.name + "': DOF " + std::to_string(g) +
+                             " outside its range [" + std::to_string(offset) + ", " +
+                             std::to_string(offset + b.global_size) + ")");
+        std::vector<std::size_t> striding{static_cast<std::size_t>(b.dofs_per_node)};
+        b.map = Teuchos::rcp(new StridedMap(Xpetra::UseTpetra, b.global_size,
+                                            Teuchos::ArrayView<const GO>(gids), 0, striding, comm));
+        sub_maps.push_back(b.map);
+        offset += b.global_size;
+      }
+    RCP<const Map> full_map = Xpetra::MapUtils<LO, GO, NO>::concatenateMaps(sub_maps);
+
+    if (merged_matrix->getGlobalNumRows() != static_cast<Xpetra::global_size_t>(offset) ||
+        merged_matrix->getGlobalNumCols() != static_cast<Xpetra::global_size_t>(offset))
+      throw InputError("BlockSystem: matrix is " + std::to_string(merged_matrix->getGlobalNumRows()) +
+                       " x " + std::to_string(merged_matrix->getGlobalNumCols()) +
+                       ", but the blocks add up to " + std::to_string(offset));
+
+    // Bring the matrix and the right-hand side into the block distribution if necessary.
+    if (!same_distribution(*merged_matrix->getRowMap(), *full_map))
+      {
+        auto importer = Xpetra::ImportFactory<LO, GO, NO>::Build(merged_matrix->getRowMap(), full_map);
+        merged_matrix = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(merged_matrix, *importer,
+                                                                     full_map, full_map);
+        if (!rhs.is_null())
+          {
+            auto moved = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(full_map, rhs->getNumVectors());
+            moved->doImport(*rhs, *importer, Xpetra::INSERT);
+            rhs = moved;
+          }
+      }
+    if (rhs.is_null())
+      rhs = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(full_map, 1, true);
+    if (rhs->getGlobalLength() != static_cast<Xpetra::global_size_t>(offset))
+      throw InputError("BlockSystem: right-hand side has length " +
+                       std::to_string(rhs->getGlobalLength()) + ", expected " + std::to_string(offset));
+
+    system.extractor_ = Xpetra::MapExtractorFactory<SC, LO, GO, NO>::Build(full_map, sub_maps, false);
+    system.blocked_   = Xpetra::MatrixUtils<SC, LO, GO, NO>::SplitMatrix(*merged_matrix, system.extractor_,
+                                                                        system.extractor_);
+    system.merged_    = merged_matrix;
+    system.rhs_       = rhs;
+    system.blocks_    = std::move(blocks);
+    return system;
+  }
+
+  GO BlockSystem::global_size() const
+  {
+    GO n = 0;
+    for (const auto& b : blocks_)
+      n += b.global_size;
+    return n;
+  }
+
+  RCP<const Map> BlockSystem::full_map() const { return extractor_->getFullMap(); }
+
+  const InterfaceInfo& BlockSystem::interface() const
+  {
+    if (!interface_)
+      throw InputError("BlockSystem: no interface data (primal interface DOF map, dual-to-primal "
+                       "node mapping) attached, but the preset needs it");
+    return *interface_;
+  }
+
+  void BlockSystem::set_interface(InterfaceInfo info) { interface_ = std::move(info); }
+
+  RCP<MultiVector> BlockSystem::nullspace_or_translations(std::size_t k) const
+  {
+    const BlockInfo& b = block(k);
+    if (!b.nullspace.is_null())
+      return b.nullspace;
+    return translation_modes(b.map, b.dofs_per_node);
+  }
+
+  void BlockSystem::validate(const std::string& source) const
+  {
+    const std::string where = source.empty() ? std::string("system") : source;
+    // Finite entries, on every rank.
+    int bad_local = 0;
+    GO  bad_row   = -1;
+    for (std::size_t i = 0; i < merged_->getNodeNumRows() && !bad_local; ++i)
+      {
+        Teuchos::ArrayView<const LO> cols;
+        Teuchos::ArrayView<const SC> vals;
+        merged_->getLocalRowView(i, cols, vals);
+        for (const SC v : vals)
+          if (!std::isfinite(v))
+            {
+              bad_local = 1;
+              bad_row   = merged_->getRowMap()->getGlobalElement(i);
+              break;
+            }
+      }
+    GO bad_row_global = -1;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, bad_row, Teuchos::outArg(bad_row_global));
+    if (bad_row_global >= 0)
+      throw InputError(where + ": matrix has a NaN or infinite entry in row " +
+                       std::to_string(bad_row_global + 1) + " (1-based); expected finite values");
+    {
+      const auto data = rhs_->getData(0);
+      int bad = 0;
+      for (const SC v : data)
+        bad |= !std::isfinite(v);
+      int bad_global = 0;
+      Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, bad, Teuchos::outArg(bad_global));
+      if (bad_global)
+        throw InputError(where + ": right-hand side has a NaN or infinite entry; expected finite values");
+    }
+    for (const auto& b : blocks_)
+      {
+        if (!b.nullspace.is_null() && b.nullspace->getLocalLength() != b.map->getNodeNumElements())
+          throw InputError(where + ": nullspace of block '" + b.name + "' has length " +
+                           std::to_string(b.nullspace->getGlobalLength()) + ", expected " +
+                           std::to_string(b.global_size));
+      }
+    if (interface_)
+      {
+        if (blocks_.size() != 2)
+          throw InputError(where + ": interface data needs exactly 2 blocks (primal, dual), got " +
+                           std::to_string(blocks_.size()));
+        const auto& dual   = blocks_[1];
+        const auto& primal = blocks_[0];
+        const LO n_dual_nodes   = dual.map->getNodeNumElements() / dual.dofs_per_node;
+        const LO n_primal_nodes = primal.map->getNodeNumElements() / primal.dofs_per_node;
+        if (static_cast<LO>(interface_->dual_to_primal_node.size()) != n_dual_nodes)
+          throw InputError(where + ": dual-to-primal node mapping has " +
+                           std::to_string(interface_->dual_to_primal_node.size()) +
+                           " entries on rank " + std::to_string(comm_->getRank()) + ", expected " +
+                           std::to_string(n_dual_nodes) + " (one per local multiplier node)");
+        for (const auto& [d, p] : interface_->dual_to_primal_node)
+          if (d < 0 || d >= n_dual_nodes || p < 0 || p >= n_primal_nodes)
+            throw InputError(where + ": dual-to-primal node mapping entry " + std::to_string(d) +
+                             " -> " + std::to_string(p) + " is out of range on rank " +
+                             std::to_string(comm_->getRank()));
+      }
+  }
+
+  std::vector<double> BlockSystem::block_norms(const MultiVector& v) const
+  {
+    std::vector<double> norms;
+    RCP<const MultiVector> vp = Teuchos::rcpFromRef(v);
+    for (std::size_t k = 0; k < blocks_.size(); ++k)
+      {
+        auto part = extractor_->ExtractVector(vp, k);
+        Teuchos::Array<double> n(1);
+        part->norm2(n);
+        norms.push_back(n[0]);
+      }
+    return norms;
+  }
+
+  std::vector<double> BlockSystem::block_residual_norms(const MultiVector& x, const MultiVector& b) const
+  {
+    auto r = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(full_map(), 1);
+    merged_->apply(x, *r);
+    r->update(1.0, b, -1.0);
+    return block_norms(*r);
+  }
+
+  RCP<MultiVector> translation_modes(const RCP<const Map>& dof_map, int dofs_per_node)
+  {
+    auto modes = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(dof_map, dofs_per_node, true);
+    for (int d = 0; d < dofs_per_node; ++d)
+      {
+        auto data = modes->getDataNonConst(d);
+        for (std::size_t i = d; i < dof_map->getNodeNumElements(); i += dofs_per_node)
+          data[i] = 1.0;
+      }
+    return modes;
+  }
+
+  RCP<MultiVector> rigid_body_modes(const RCP<const Map>& dof_map, int dim,
+                                    const std::vector<double>& x)
+  {
+    const std::size_t n_nodes = dof_map->getNodeNumElements() / dim;
+    if (x.size() != n_nodes * dim)
+      throw InputError("rigid_body_modes: " + std::to_string(x.size() / std::max(dim, 1)) +
+                       " coordinates for " + std::to_string(n_nodes) + " local nodes");
+    const int n_modes = (dim == 2) ? 3 : 6;
+    auto modes = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(dof_map, n_modes, true);
+    std::vector<Teuchos::ArrayRCP<SC>> m;
+    for (int j = 0; j < n_modes; ++j)
+      m.push_back(modes->getDataNonConst(j));
+    for (std::size_t i = 0; i < n_nodes; ++i)
+      {
+        const double* p = &x[i * dim];
+        for (int d = 0; d < dim; ++d)
+          m[d][i * dim + d] = 1.0;
+        if (dim == 2)
+          { // infinitesimal rotation about the z axis: (-y, x)
+            m[2][i * 2 + 0] = -p[1];
+            m[2][i * 2 + 1] = p[0];
+          }
+        else
+          { // rotations about x, y, z: omega x p
+            m[3][i * 3 + 1] = -p[2];
+            m[3][i * 3 + 2] = p[1];
+            m[4][i * 3 + 0] = p[2];
+            m[4][i * 3 + 2] = -p[0];
+            m[5][i * 3 + 0] = -p[1];
+            m[5][i * 3 + 1] = p[0];
+          }
+      }
+    return modes;
+  }
+} // namespace multigrid

@@ -1,0 +1,55 @@
+// Reading and writing a BlockSystem.
+//
+// Two on-disk conventions are understood:
+//  1. The project's own: a directory with `manifest.txt` (written by write_block_system) naming the
+//     blocks, their sizes and DOFs per node, and which Matrix Market file holds what:
+//        format   block-system-1
+//        matrix   matrix.mm                    (the whole operator, 1-based coordinate format)
+//        rhs      rhs.mm                       (array format)
+//        block    <name> <size> <dofs per node> [nullspace file|-]
+//        interface <dual-to-primal file> [segregation DOF file|-]
+//     The dual-to-primal file is a Matrix Market integer array with two columns: for every
+//     multiplier node (0-based within block 1) the primal node it belongs to (0-based within block 0).
+//  2. The single-matrix convention of other codes' exports (shared/peer-data): PREFIX_matrix.mm
+//     holding primal then dual DOFs, PREFIX_rhs.mm, PREFIX_nullspace[1].mm (its row count is the
+//     primal size) and PREFIX_interface_dof_map_MPI1.mm (a Tpetra map file of the slave DOFs; the
+//     k-th multiplier node belongs to the k-th slave node).
+//
+// Distribution on read: primal nodes are split in contiguous equal chunks; every multiplier node
+// lives on the rank that owns its primal node (what InterfaceAggregationFactory requires).
+#pragma once
+
+#include "block_system.h"
+
+#include <string>
+#include <vector>
+
+namespace multigrid
+{
+  struct ReadOptions
+  {
+    int dofs_per_node = 2; ///< single-matrix convention only (manifests store it)
+  };
+
+  /// PATH: a manifest directory, or the prefix of a single-matrix system. Throws InputError.
+  BlockSystem read_block_system(const std::string& path, RCP<const Comm> comm,
+                                const ReadOptions& options = {});
+
+  /// Writes the manifest convention into DIR (replacing it atomically: written to DIR.partial,
+  /// then renamed, so an interrupted run never leaves a half-written system behind).
+  void write_block_system(const BlockSystem& system, const std::string& dir);
+
+  /// Global ids stored in a Tpetra map file (Matrix Market integer array of (GID, PID) pairs).
+  std::vector<GO> read_map_gids(const std::string& file);
+
+  /// Header of a Matrix Market file: rows, columns, entries (coordinate) or rows x cols (array).
+  struct MatrixMarketHeader
+  {
+    bool        coordinate = false;
+    std::string field;   ///< real, integer, ...
+    long long   rows = 0, cols = 0, entries = 0;
+  };
+  /// Reads the header and checks every entry line: index ranges, count, finite values. Throws
+  /// InputError naming the file, the line and what was expected.
+  MatrixMarketHeader scan_matrix_market(const std::string& file);
+} // namespace multigrid

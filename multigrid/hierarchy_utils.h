@@ -1,0 +1,30 @@
+// Small helpers around MueLu hierarchies shared by the preconditioner classes (internal to
+// multigrid/).
+#pragma once
+
+#include "types.h"
+
+#include <Teuchos_ParameterList.hpp>
+
+#include <utility>
+#include <vector>
+
+namespace MueLu
+{
+  template <class SC, class LO, class GO, class NO>
+  class Hierarchy;
+}
+
+namespace multigrid
+{
+  using Hierarchy = MueLu::Hierarchy<SC, LO, GO, NO>;
+
+  /// Single-field MueLu hierarchy from MueLu's (simple or factory-style) parameter list, with the
+  /// near-nullspace set on level 0 (rigid-body modes make SA elasticity-aware).
+  RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
+                                              const RCP<MultiVector>& nullspace,
+                                              const Teuchos::ParameterList& muelu_parameters);
+
+  /// (rows, nonzeros) of every level's operator, fine first.
+  std::vector<std::pair<long long, long long>> level_sizes(Hierarchy& H);
+} // namespace multigrid

@@ -1,0 +1,47 @@
+// Named solver presets. Each preset is an XML parameter list under multigrid/presets/ whose
+// "kind" says how it is built:
+//   amg               single-field MueLu (sublist "MueLu": MueLu's parameter list, nullspace-aware)
+//   saddle-point-amg  fully coupled block AMG: the MueLu XML template named by "template", its
+//                     @PARAMETERS@ filled from the sublist "template parameters" and the system
+//   cheapsimple       CheapSIMPLE(C) block preconditioner with inner solvers (sublists "primal
+//                     solver", "schur solver": MueLu parameter lists)
+//   direct            SuperLU on the whole system (the project's adaptor)
+//   muelu             a complete MueLu XML of the user's (--xml FILE without a "kind")
+// Any value can be overridden: "PATH=VALUE" with '/' between sublists, e.g.
+// "template parameters/MAX_LEVELS=2" or "primal solver/max levels=2".
+#pragma once
+
+#include "types.h"
+
+#include <Teuchos_ParameterList.hpp>
+
+#include <string>
+#include <vector>
+
+namespace multigrid
+{
+  struct Preset
+  {
+    std::string            name;
+    std::string            kind;
+    Teuchos::ParameterList parameters;
+  };
+
+  /// Directory holding the preset XML files (build tree copy, or $SADDLE_POINT_PRESETS).
+  std::string preset_directory();
+
+  /// Names of all presets shipped in preset_directory(), in a stable order.
+  std::vector<std::string> available_presets();
+
+  /// Loads a shipped preset by name. Throws InputError naming the preset and the known ones.
+  Preset load_preset(const std::string& name);
+
+  /// Loads a user's XML file (a preset file, or a complete MueLu XML: kind "muelu").
+  Preset load_preset_file(const std::string& file);
+
+  /// Applies "PATH=VALUE" overrides; the value is converted to the type of the existing entry.
+  void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
+
+  /// For saddle-point-amg presets: the MueLu XML text after substitution.
+  std::string expand_template(const Preset& preset, int primal_dofs_per_node, int dual_dofs_per_node);
+} // namespace multigrid

@@ -1,0 +1,37 @@
+// The project's own MueLu factories, for what MueLu 13.2 lacks, and the FactoryFactory that lets
+// preset XML files name them like MueLu's own factories:
+//   LevelSegregatedAFactory  the seeds' "filtered A" on every level: drops all entries that couple
+//                            the segregation DOF set (one body) to its complement. MueLu 13.2's
+//                            SegregatedAFactory reads a non-const map, which MapTransferFactory
+//                            cannot provide on coarse levels, and it decides column membership
+//                            with the row owner's map only; this one imports the membership.
+//   NodeInterfaceAggregationFactory
+//                            multiplier aggregates copied from the slave-side primal aggregates
+//                            (node-based), with an amalgamation that is consistent for a dual
+//                            block numbered after the primal one (MueLu 13.2's is not).
+//   SuperLUDirectSolver      coarse-level direct solver through the project's SuperLU adaptor,
+//                            for single and blocked (merged on the fly) operators.
+#pragma once
+
+#include "types.h"
+
+#include <MueLu_FactoryFactory_decl.hpp>
+
+#include <map>
+#include <string>
+
+namespace multigrid
+{
+  using FactoryMap        = std::map<std::string, RCP<const MueLu::FactoryBase>>;
+  using FactoryManagerMap = std::map<std::string, RCP<MueLu::FactoryManagerBase>>;
+
+  class ProjectFactoryFactory : public MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>
+  {
+    using Base = MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>;
+
+  public:
+    RCP<const MueLu::FactoryBase> BuildFactory(const Teuchos::ParameterEntry& param,
+                                               const ::multigrid::FactoryMap& factories,
+                                               const ::multigrid::FactoryManagerMap& managers) const override;
+  };
+} // namespace multigrid

@@ -1,0 +1,63 @@
+// The project's SuperLU adaptor (Debian's Amesos2 is built without SuperLU; see PLATFORM.md).
+//
+// SuperLUDirect gathers a distributed Xpetra matrix onto rank 0, factorizes it there with SuperLU
+// (column permutation COLAMD, partial pivoting, so saddle-point systems with zero diagonal blocks
+// are fine), and solves by gathering the right-hand side and scattering the solution back. This is
+// the right tool for coarse levels and for reference solutions on the sizes this project runs;
+// a SuperLU_DIST variant would be the next step for very large direct solves.
+//
+// It serves three roles: the `direct(superlu)` preset (DirectSolverOperator), the coarse-level
+// solver of MueLu hierarchies ("SuperLUDirectSolver" in preset XML), and reference solutions in tests.
+#pragma once
+
+#include "types.h"
+
+#include <Xpetra_Matrix.hpp>
+#include <Xpetra_Operator.hpp>
+
+#include <memory>
+
+namespace multigrid
+{
+  class SuperLUDirect
+  {
+  public:
+    /// Factorizes A (square, fill-complete). Throws InputError if A is structurally or
+    /// numerically singular.
+    explicit SuperLUDirect(const RCP<const Matrix>& A);
+    ~SuperLUDirect();
+    SuperLUDirect(const SuperLUDirect&)            = delete;
+    SuperLUDirect& operator=(const SuperLUDirect&) = delete;
+
+    /// X = A^-1 B (X and B distributed like A's range/domain maps).
+    void solve(const ::multigrid::MultiVector& B, ::multigrid::MultiVector& X) const;
+
+    /// Nonzeros of L + U (on rank 0, broadcast): a measure of the direct solver's memory.
+    long long factor_nonzeros() const { return factor_nnz_; }
+
+  private:
+    struct Factors;
+    RCP<const ::multigrid::Map>           distributed_map_;
+    RCP<const ::multigrid::Map>           root_map_;
+    std::unique_ptr<Factors> factors_;   ///< only on rank 0
+    long long                factor_nnz_ = 0;
+  };
+
+  /// direct(superlu) as an Xpetra operator: apply(B) = A^-1 B. Used as a "preconditioner" in the
+  /// same Krylov driver, which then converges in one iteration and reports the true residual.
+  class DirectSolverOperator : public Xpetra::Operator<SC, LO, GO, NO>
+  {
+  public:
+    explicit DirectSolverOperator(const RCP<const Matrix>& A);
+    RCP<const ::multigrid::Map> getDomainMap() const override { return A_->getDomainMap(); }
+    RCP<const ::multigrid::Map> getRangeMap() const override { return A_->getRangeMap(); }
+    void apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
+               SC alpha = 1.0, SC beta = 0.0) const override;
+    void residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, ::multigrid::MultiVector& R) const override;
+    const SuperLUDirect& solver() const { return *solver_; }
+
+  private:
+    RCP<const Matrix>              A_;
+    std::unique_ptr<SuperLUDirect> solver_;
+  };
+} // namespace multigrid

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# One entry point for a fresh Debian 12 machine:
+#   scripts/setup.sh run    install what is missing, build, run the main example (small default)
+#   scripts/setup.sh test   install what is missing, build, run the test suite (ctest)
+#   scripts/setup.sh build  install and build only
+# Idempotent: packages already present are not reinstalled, the build is incremental.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+mode="${1:-build}"
+
+packages=(
+  build-essential cmake ninja-build ccache pkg-config
+  libdeal.ii-dev trilinos-all-dev libopenmpi-dev openmpi-bin libmetis-dev
+  libsuperlu-dev libsuperlu-dist-dev gmsh libgmsh-dev
+  libgtest-dev python3-numpy
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# Open MPI refuses to run as root unless told (containers, CI).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+
+jobs="$(nproc)"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j "$jobs"
+
+case "$mode" in
+  run)
+    mkdir -p output
+    mpirun -np 2 build/apps/solve_block_system --builtin tied-blocks-2d:2 \
+      --preset "sa-amg(cheapsimple)" --json output/solve_report.json
+    ;;
+  test)
+    cd build && ctest --output-on-failure -j "$jobs" -LE benchmark
+    ;;
+  build) ;;
+  *) echo "setup: unknown mode '$mode' (expected run, test or build)" >&2; exit 2 ;;
+esac
