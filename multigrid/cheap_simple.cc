@@ -112,8 +112,7 @@ namespace multigrid
         // 4. damped multiplier update and its consequence for the displacements
         dx2->scale(damping_);
         B1t_->apply(*dx2, *tmp1);
-        tmp1->elementWiseMultiply(1.0, *inv_diag_->getVector(0), *tmp1, 0.0);
-        dx1->update(-1.0 / damping_, *tmp1, 1.0);
+        dx1->elementWiseMultiply(-1.0 / damping_, *inv_diag_->getVector(0), *tmp1, 1.0);
         // 5. increment
         auto xx1 = ext.ExtractVector(x, 0);
         auto xx2 = ext.ExtractVector(x, 1);

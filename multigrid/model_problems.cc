@@ -110,7 +110,16 @@ namespace multigrid
       const GO p = slave.node(static_cast<int>((dof - n_primal) / 2), 0);
       return p >= lo && p < hi;
     };
-    auto is_clamped = [&](GO dof) { return dof < 2 * master.n_nodes() && (dof / 2) < master.nx + 1; };
+    // Dirichlet data: body 1 clamped at y = 0; the top face of body 2 pushed by a prescribed
+    // displacement (0.01, -0.02) (the two-block benchmark's loading), so both bodies are supported
+    // and the primal block is nonsingular, as in a quasi-static contact step.
+    const double pushed[2] = {0.01, -0.02};
+    auto is_clamped = [&](GO dof) {
+      const GO node = dof / 2;
+      return (node < master.nx + 1) || (node >= slave.node(0, slave.ny) && node < slave.n_nodes() + slave.first_node);
+    };
+    auto prescribed = [&](GO dof) { return dof / 2 < master.nx + 1 ? 0.0 : pushed[dof % 2]; };
+    std::map<GO, double> lifted; // rhs contributions -K_rc g_c of the prescribed values
 
     Rows rows;
     auto add = [&](GO i, GO j, double v) {
@@ -132,12 +141,18 @@ namespace multigrid
                     const GO r = 2 * nodes[a / 2] + a % 2, c = 2 * nodes[b / 2] + b % 2;
                     if (!is_clamped(r) && !is_clamped(c))
                       add(r, c, K[a][b]);
+                    else if (!is_clamped(r) && is_owned(r))
+                      lifted[r] -= K[a][b] * prescribed(c);
                   }
             }
       }
-    for (int i = 0; i <= master.nx; ++i)
-      for (int d = 0; d < 2; ++d)
-        add(2 * master.node(i, 0) + d, 2 * master.node(i, 0) + d, 1.0);
+    for (const Grid* g : {&master, &slave})
+      for (int i = 0; i <= g->nx; ++i)
+        for (int d = 0; d < 2; ++d)
+          {
+            const GO dof = 2 * g->node(i, g == &master ? 0 : g->ny) + d;
+            add(dof, dof, 1.0);
+          }
 
     // Mortar coupling on y = 0.5: integrate on the segments cut by both meshes' nodes, two Gauss
     // points each (exact for the products of linear functions).
@@ -207,21 +222,15 @@ namespace multigrid
       }
     A->fillComplete();
 
-    // Traction (0.1, -1) on the top edge of body 2: consistent nodal forces.
+    // Right-hand side: prescribed values on Dirichlet rows, their lifting elsewhere.
     auto rhs = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(row_map, 1, true);
     {
-      auto         data = rhs->getDataNonConst(0);
-      const double h    = 1.0 / slave.nx;
-      for (int i = 0; i < slave.nx; ++i)
-        for (int a = 0; a < 2; ++a)
-          {
-            const GO dof = 2 * slave.node(i + a, slave.ny);
-            if (row_map->isNodeGlobalElement(dof))
-              {
-                data[row_map->getLocalElement(dof)] += 0.5 * h * 0.1;
-                data[row_map->getLocalElement(dof + 1)] += 0.5 * h * -1.0;
-              }
-          }
+      auto data = rhs->getDataNonConst(0);
+      for (GO dof : owned[0])
+        if (is_clamped(dof))
+          data[row_map->getLocalElement(dof)] = prescribed(dof);
+      for (const auto& [dof, value] : lifted)
+        data[row_map->getLocalElement(dof)] += value;
     }
 
     std::vector<BlockInfo> blocks(2);
