@@ -201,6 +201,7 @@ namespace multigrid
                                               system.nullspace_or_translations(0), p.sublist("MueLu"));
         });
         fill_levels(info_, *H);
+        hierarchy_          = H;
         info_.coarse_solver = string_or(p.sublist("MueLu"), "coarse: type", "KLU2");
         op_ = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
       }
@@ -228,7 +229,8 @@ namespace multigrid
               for (std::size_t k = 0; k < bA->Rows(); ++k)
                 info_.levels[l].block_rows.push_back(bA->getRangeMap(k)->getGlobalNumElements());
           }
-        op_ = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
+        hierarchy_ = H;
+        op_        = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
       }
     else
       throw InputError("preset '" + preset.name + "': unknown kind '" + preset.kind + "'");
@@ -236,4 +238,15 @@ namespace multigrid
   }
 
   BlockPreconditioner::~BlockPreconditioner() = default;
+
+  RCP<const Matrix> BlockPreconditioner::prolongator_block(int level, int block) const
+  {
+    if (hierarchy_.is_null() || level + 1 >= hierarchy_->GetNumLevels())
+      throw InputError("preset '" + info_.preset + "' has no prolongator below level " + std::to_string(level));
+    auto P  = hierarchy_->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
+    auto bP = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(P);
+    if (bP.is_null())
+      return P;
+    return bP->getMatrix(block, block);
+  }
 } // namespace multigrid

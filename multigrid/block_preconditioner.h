@@ -12,6 +12,12 @@
 #include <string>
 #include <vector>
 
+namespace MueLu
+{
+  template <class SC, class LO, class GO, class NO>
+  class Hierarchy;
+}
+
 namespace multigrid
 {
   struct LevelInfo
@@ -41,10 +47,15 @@ namespace multigrid
     ~BlockPreconditioner();
 
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op() const { return op_; }
+
+    /// Diagnostics of MueLu-based presets: block `block` of the prolongator from level
+    /// `level` + 1 to `level` (level 0 = fine). Throws InputError for other kinds or levels.
+    RCP<const Matrix> prolongator_block(int level, int block) const;
     const PreconditionerInfo&             info() const { return info_; }
 
   private:
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;
+    RCP<MueLu::Hierarchy<SC, LO, GO, NO>> hierarchy_;
     PreconditionerInfo                    info_;
   };
 } // namespace multigrid

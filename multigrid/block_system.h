@@ -11,6 +11,11 @@
 
 #include "types.h"
 
+#include <Xpetra_Map.hpp>
+#include <Xpetra_Matrix.hpp>
+#include <Xpetra_MultiVector.hpp>
+#include <Xpetra_StridedMap.hpp>
+
 #include <map>
 #include <optional>
 #include <string>
@@ -71,6 +76,7 @@ namespace multigrid
     RCP<const Map> full_map() const;
     RCP<const MapExtractor> map_extractor() const { return extractor_; }
     RCP<MultiVector> rhs() const { return rhs_; }
+    void             set_rhs(RCP<MultiVector> b) { rhs_ = std::move(b); }
 
     bool has_interface() const { return interface_.has_value(); }
     const InterfaceInfo& interface() const;

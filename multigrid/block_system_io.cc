@@ -175,11 +175,14 @@ namespace multigrid
     Description describe_single_matrix(const std::string& prefix, const ReadOptions& options)
     {
       Description d;
-      d.source = prefix + "_matrix.mm";
+      // PREFIX_block_matrix.mm, where present, is the whole system and PREFIX_matrix.mm its
+      // primal block (the segregatedAgg convention); otherwise PREFIX_matrix.mm is the whole system.
+      d.source = fs::is_regular_file(prefix + "_block_matrix.mm") ? prefix + "_block_matrix.mm" : prefix + "_matrix.mm";
       d.matrix = d.source;
       require_file(d.matrix, "matrix");
       d.rhs = prefix + "_rhs.mm";
-      require_file(d.rhs, "right-hand side");
+      if (!fs::is_regular_file(d.rhs))
+        d.rhs.clear(); // no right-hand side stored: b = 0 (callers set their own)
       std::string nullspace = prefix + "_nullspace1.mm";
       if (!fs::is_regular_file(nullspace))
         nullspace = prefix + "_nullspace.mm";
@@ -471,7 +474,7 @@ namespace multigrid
   {
     if (fs::is_directory(path))
       return load(describe_manifest(path), comm);
-    if (fs::is_regular_file(path + "_matrix.mm"))
+    if (fs::is_regular_file(path + "_matrix.mm") || fs::is_regular_file(path + "_block_matrix.mm"))
       return load(describe_single_matrix(path, options), comm);
     throw InputError(path + ": no block system there (expected a directory with manifest.txt, or "
                             "a prefix P with P_matrix.mm)");

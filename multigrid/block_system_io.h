@@ -11,7 +11,8 @@
 //     The dual-to-primal file is a Matrix Market integer array with two columns: for every
 //     multiplier node (0-based within block 1) the primal node it belongs to (0-based within block 0).
 //  2. The single-matrix convention of other codes' exports (shared/peer-data): PREFIX_matrix.mm
-//     holding primal then dual DOFs, PREFIX_rhs.mm, PREFIX_nullspace[1].mm (its row count is the
+//     holding primal then dual DOFs (or PREFIX_block_matrix.mm, with PREFIX_matrix.mm then being
+//     the primal block alone), PREFIX_rhs.mm (optional), PREFIX_nullspace[1].mm (its row count is the
 //     primal size) and PREFIX_interface_dof_map_MPI1.mm (a Tpetra map file of the slave DOFs; the
 //     k-th multiplier node belongs to the k-th slave node).
 //

@@ -61,42 +61,7 @@ namespace multigrid
         else
           set = Get<RCP<const Map>>(level, "segregation dofs");
 
-        // Membership flag of every row, then of every column (imported: the column owner decides).
-        auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A->getRowMap(), true);
-        {
-          auto data = in_set_rows->getDataNonConst(0);
-          for (std::size_t i = 0; i < data.size(); ++i)
-            data[i] = set->isNodeGlobalElement(A->getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
-        }
-        auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A->getColMap(), true);
-        auto importer    = Xpetra::ImportFactory<LO, GO, NO>::Build(A->getRowMap(), A->getColMap());
-        in_set_cols->doImport(*in_set_rows, *importer, Xpetra::INSERT);
-        const auto row_flag = in_set_rows->getData(0);
-        const auto col_flag = in_set_cols->getData(0);
-
-        RCP<Matrix> filtered = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A->getRowMap(), A->getColMap(),
-                                                                            A->getNodeMaxNumRowEntries());
-        std::size_t dropped = 0;
-        for (std::size_t i = 0; i < A->getNodeNumRows(); ++i)
-          {
-            Teuchos::ArrayView<const LO> cols;
-            Teuchos::ArrayView<const SC> vals;
-            A->getLocalRowView(i, cols, vals);
-            std::vector<LO> keep_cols;
-            std::vector<SC> keep_vals;
-            for (LO k = 0; k < cols.size(); ++k)
-              if (row_flag[i] == col_flag[cols[k]])
-                {
-                  keep_cols.push_back(cols[k]);
-                  keep_vals.push_back(vals[k]);
-                }
-              else
-                ++dropped;
-            filtered->insertLocalValues(i, keep_cols, keep_vals);
-          }
-        filtered->fillComplete(A->getDomainMap(), A->getRangeMap());
-        filtered->SetFixedBlockSize(A->GetFixedBlockSize());
-        GetOStream(MueLu::Statistics1) << "segregation dropped " << dropped << " local entries" << std::endl;
+        RCP<Matrix> filtered = segregated_matrix(*A, *set);
         Set(level, "A", filtered);
       }
     };
@@ -218,7 +183,9 @@ namespace multigrid
         MueLu::FactoryMonitor monitor(*this, "SuperLU coarse solver", level);
         RCP<::multigrid::Matrix> A = this->template Get<RCP<::multigrid::Matrix>>(level, "A");
         auto bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A);
-        solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge());
+        // A coarse DOF that P does not reach (an aggregate with fewer DOFs than nullspace vectors)
+        // has an empty row and column; it decouples, so a unit diagonal makes the solve defined.
+        solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge(), true);
         this->IsSetup(true);
       }
 
@@ -259,6 +226,44 @@ namespace multigrid
       std::shared_ptr<SuperLUDirect> solver_;
     };
   } // namespace
+
+  RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set_map)
+  {
+    const Map* set = &set_map;
+    // Membership flag of every row, then of every column (imported: the column owner decides).
+        auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
+        {
+          auto data = in_set_rows->getDataNonConst(0);
+          for (std::size_t i = 0; i < data.size(); ++i)
+            data[i] = set->isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
+        }
+        auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
+        auto importer    = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
+        in_set_cols->doImport(*in_set_rows, *importer, Xpetra::INSERT);
+        const auto row_flag = in_set_rows->getData(0);
+        const auto col_flag = in_set_cols->getData(0);
+
+        RCP<Matrix> filtered = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getColMap(),
+                                                                            A.getNodeMaxNumRowEntries());
+        for (std::size_t i = 0; i < A.getNodeNumRows(); ++i)
+          {
+            Teuchos::ArrayView<const LO> cols;
+            Teuchos::ArrayView<const SC> vals;
+            A.getLocalRowView(i, cols, vals);
+            std::vector<LO> keep_cols;
+            std::vector<SC> keep_vals;
+            for (LO k = 0; k < cols.size(); ++k)
+              if (row_flag[i] == col_flag[cols[k]])
+                {
+                  keep_cols.push_back(cols[k]);
+                  keep_vals.push_back(vals[k]);
+                }
+            filtered->insertLocalValues(i, keep_cols, keep_vals);
+          }
+        filtered->fillComplete(A.getDomainMap(), A.getRangeMap());
+        filtered->SetFixedBlockSize(A.GetFixedBlockSize());
+            return filtered;
+  }
 
   RCP<const MueLu::FactoryBase> ProjectFactoryFactory::BuildFactory(const Teuchos::ParameterEntry& param,
                                                                    const ::multigrid::FactoryMap& factories,

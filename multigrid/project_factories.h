@@ -22,6 +22,10 @@
 
 namespace multigrid
 {
+  /// The seeds' "filtered A": A_seg(i,j) = A(i,j) if i and j are both in `set` or both outside,
+  /// else 0 (the entry is removed). Column membership is imported from the owners of the columns.
+  RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set);
+
   using FactoryMap        = std::map<std::string, RCP<const MueLu::FactoryBase>>;
   using FactoryManagerMap = std::map<std::string, RCP<MueLu::FactoryManagerBase>>;
 

@@ -8,7 +8,11 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include <Xpetra_IO.hpp>
+
 #include <slu_ddefs.h>
+
+#include <cstdlib>
 
 #include <numeric>
 
@@ -89,7 +93,7 @@ namespace multigrid
     }
   };
 
-  SuperLUDirect::SuperLUDirect(const RCP<const Matrix>& A)
+  SuperLUDirect::SuperLUDirect(const RCP<const Matrix>& A, bool unit_diagonal_on_empty_rows)
   {
     const auto comm = A->getRowMap()->getComm();
     distributed_map_ = A->getRangeMap();
@@ -139,10 +143,17 @@ namespace multigrid
             Teuchos::ArrayView<const LO> cols;
             Teuchos::ArrayView<const SC> vals;
             root->getLocalRowView(i, cols, vals);
+            bool empty = true;
             for (LO k = 0; k < cols.size(); ++k)
               {
                 f.indices.push_back(root_map_->getLocalElement(col_map->getGlobalElement(cols[k])));
                 f.values.push_back(vals[k]);
+                empty &= (vals[k] == 0.0);
+              }
+            if (empty && unit_diagonal_on_empty_rows)
+              {
+                f.indices.push_back(i);
+                f.values.push_back(1.0);
               }
             f.pointers.push_back(static_cast<int>(f.indices.size()));
           }
@@ -152,6 +163,8 @@ namespace multigrid
       }
     Teuchos::broadcast(*comm, 0, Teuchos::outArg(info));
     Teuchos::broadcast(*comm, 0, Teuchos::outArg(factor_nnz_));
+    if (info != 0 && std::getenv("SUPERLU_DUMP_SINGULAR"))
+      Xpetra::IO<SC, LO, GO, NO>::Write(std::getenv("SUPERLU_DUMP_SINGULAR"), *A);
     if (info != 0)
       throw InputError("SuperLU: matrix of size " + std::to_string(A->getGlobalNumRows()) +
                        " is singular (zero pivot in column " + std::to_string(info) +

@@ -23,8 +23,9 @@ namespace multigrid
   {
   public:
     /// Factorizes A (square, fill-complete). Throws InputError if A is structurally or
-    /// numerically singular.
-    explicit SuperLUDirect(const RCP<const Matrix>& A);
+    /// numerically singular. With `unit_diagonal_on_empty_rows`, rows without a nonzero value get
+    /// a one on the diagonal first (coarse levels: DOFs the prolongator does not reach).
+    explicit SuperLUDirect(const RCP<const Matrix>& A, bool unit_diagonal_on_empty_rows = false);
     ~SuperLUDirect();
     SuperLUDirect(const SuperLUDirect&)            = delete;
     SuperLUDirect& operator=(const SuperLUDirect&) = delete;
