@@ -29,7 +29,8 @@
 
 namespace
 {
-  const char* usage = R"(usage: solve_block_system (--system PATH | --builtin NAME) (--preset NAME | --xml FILE) [options]
+  const char* usage =
+      R"(usage: solve_block_system (--system PATH | --builtin NAME) (--preset NAME | --xml FILE) [options]
 
 Solves A x = b with right-preconditioned restarted GMRES (Belos) and a block preconditioner.
 
@@ -65,11 +66,11 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
 
   struct Options
   {
-    std::string system, builtin, preset, xml, json, export_dir;
+    std::string              system, builtin, preset, xml, json, export_dir;
     std::vector<std::string> overrides;
     multigrid::SolveOptions  solve;
     multigrid::ReadOptions   read;
-    bool list = false, print_xml = false, help = false;
+    bool                     list = false, print_xml = false, help = false;
   };
 
   template <typename T>
@@ -87,28 +88,44 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
     Options o;
     for (int i = 1; i < argc; ++i)
       {
-        const std::string a = argv[i];
-        auto value = [&]() -> std::string {
+        const std::string a     = argv[i];
+        auto              value = [&]() -> std::string {
           if (i + 1 >= argc)
             throw multigrid::InputError(a + ": missing value");
           return argv[++i];
         };
-        if (a == "--system") o.system = value();
-        else if (a == "--builtin") o.builtin = value();
-        else if (a == "--preset") o.preset = value();
-        else if (a == "--xml") o.xml = value();
-        else if (a == "--set") o.overrides.push_back(value());
-        else if (a == "--json") o.json = value();
-        else if (a == "--export-system") o.export_dir = value();
-        else if (a == "--tol") o.solve.tolerance = parse_number<double>(a, value());
-        else if (a == "--max-iterations") o.solve.max_iterations = parse_number<int>(a, value());
-        else if (a == "--restart") o.solve.restart = parse_number<int>(a, value());
-        else if (a == "--dofs-per-node") o.read.dofs_per_node = parse_number<int>(a, value());
-        else if (a == "--per-block") o.solve.per_block = true;
-        else if (a == "--list-presets") o.list = true;
-        else if (a == "--print-xml") o.print_xml = true;
-        else if (a == "--help" || a == "-h") o.help = true;
-        else throw multigrid::InputError("unknown option '" + a + "' (see --help)");
+        if (a == "--system")
+          o.system = value();
+        else if (a == "--builtin")
+          o.builtin = value();
+        else if (a == "--preset")
+          o.preset = value();
+        else if (a == "--xml")
+          o.xml = value();
+        else if (a == "--set")
+          o.overrides.push_back(value());
+        else if (a == "--json")
+          o.json = value();
+        else if (a == "--export-system")
+          o.export_dir = value();
+        else if (a == "--tol")
+          o.solve.tolerance = parse_number<double>(a, value());
+        else if (a == "--max-iterations")
+          o.solve.max_iterations = parse_number<int>(a, value());
+        else if (a == "--restart")
+          o.solve.restart = parse_number<int>(a, value());
+        else if (a == "--dofs-per-node")
+          o.read.dofs_per_node = parse_number<int>(a, value());
+        else if (a == "--per-block")
+          o.solve.per_block = true;
+        else if (a == "--list-presets")
+          o.list = true;
+        else if (a == "--print-xml")
+          o.print_xml = true;
+        else if (a == "--help" || a == "-h")
+          o.help = true;
+        else
+          throw multigrid::InputError("unknown option '" + a + "' (see --help)");
       }
     if (o.help || o.list)
       return o;
@@ -145,7 +162,8 @@ int main(int argc, char** argv)
           if (root)
             for (const auto& name : multigrid::available_presets())
               std::cout << name << "\n    "
-                        << multigrid::load_preset(name).parameters.get<std::string>("description", "") << "\n";
+                        << multigrid::load_preset(name).parameters.get<std::string>("description", "")
+                        << "\n";
           return 0;
         }
 
@@ -156,23 +174,25 @@ int main(int argc, char** argv)
         multigrid::write_block_system(system, o.export_dir);
 
       // 2. The preset, with the user's overrides.
-      multigrid::Preset preset = o.preset.empty() ? multigrid::load_preset_file(o.xml) : multigrid::load_preset(o.preset);
+      multigrid::Preset preset =
+          o.preset.empty() ? multigrid::load_preset_file(o.xml) : multigrid::load_preset(o.preset);
       multigrid::apply_overrides(preset, o.overrides);
       if (o.print_xml)
         {
           if (preset.kind != "saddle-point-amg")
-            throw multigrid::InputError("--print-xml: preset '" + preset.name + "' is of kind '" + preset.kind +
-                                        "', only saddle-point-amg presets expand to MueLu XML");
+            throw multigrid::InputError("--print-xml: preset '" + preset.name + "' is of kind '" +
+                                        preset.kind + "', only saddle-point-amg presets expand to MueLu XML");
           if (root)
             std::cout << multigrid::expand_template(preset, system.block(0).dofs_per_node,
-                                                    system.n_blocks() > 1 ? system.block(1).dofs_per_node : 1);
+                                                    system.n_blocks() > 1 ? system.block(1).dofs_per_node
+                                                                          : 1);
           return 0;
         }
 
       // 3. Set up the preconditioner, 4. solve, 5. report.
       multigrid::BlockPreconditioner preconditioner(system, preset);
       auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
-        system.full_map(), 1, true);
+          system.full_map(), 1, true);
       const auto report = multigrid::solve(system, preconditioner, *x, o.solve);
       if (root)
         {

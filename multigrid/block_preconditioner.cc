@@ -25,7 +25,11 @@ namespace multigrid
     class HierarchyOperator : public Xpetra::Operator<SC, LO, GO, NO>
     {
     public:
-      HierarchyOperator(RCP<Hierarchy> H, RCP<const ::multigrid::Map> map) : H_(std::move(H)), map_(std::move(map)) {}
+      HierarchyOperator(RCP<Hierarchy> H, RCP<const ::multigrid::Map> map)
+          : H_(std::move(H))
+          , map_(std::move(map))
+      {
+      }
       RCP<const ::multigrid::Map> getDomainMap() const override { return map_; }
       RCP<const ::multigrid::Map> getRangeMap() const override { return map_; }
       void apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode,
@@ -48,13 +52,14 @@ namespace multigrid
       {
         throw std::logic_error("HierarchyOperator: residual() is not defined for a preconditioner");
       }
-      
+
     private:
-      RCP<Hierarchy> H_;
+      RCP<Hierarchy>              H_;
       RCP<const ::multigrid::Map> map_;
     };
 
-    std::string string_or(const Teuchos::ParameterList& list, const std::string& name, const std::string& fallback)
+    std::string string_or(const Teuchos::ParameterList& list, const std::string& name,
+                          const std::string& fallback)
     {
       return list.isParameter(name) ? list.get<std::string>(name) : fallback;
     }
@@ -87,7 +92,7 @@ namespace multigrid
         {
           std::string what = e.what();
           // keep the innermost message line: MueLu/Teuchos prepend file and line information
-          std::string line, last;
+          std::string        line, last;
           std::istringstream s(what);
           while (std::getline(s, line))
             if (!line.empty() && line.find_first_not_of(" \t") != std::string::npos)
@@ -96,7 +101,8 @@ namespace multigrid
         }
     }
 
-    RCP<Hierarchy> build_saddle_point_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu)
+    RCP<Hierarchy> build_saddle_point_hierarchy(const BlockSystem&            system,
+                                                const Teuchos::ParameterList& muelu)
     {
       if (system.n_blocks() != 2)
         throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
@@ -104,17 +110,16 @@ namespace multigrid
       const auto& interface = system.interface();
       auto        comm      = system.comm();
 
-      Teuchos::ParameterList list = muelu;
+      Teuchos::ParameterList                          list = muelu;
       MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, comm,
                                                                   Teuchos::rcp(new ProjectFactoryFactory()));
-      RCP<Hierarchy> H = interpreter.CreateHierarchy();
+      RCP<Hierarchy>                                  H = interpreter.CreateHierarchy();
       H->IsPreconditioner(true);
       auto L0 = H->GetLevel(0);
       L0->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
       L0->Set("Nullspace1", system.nullspace_or_translations(0));
       L0->Set("Nullspace2", system.nullspace_or_translations(1));
-      L0->Set("DualNodeID2PrimalNodeID",
-              Teuchos::rcp(new std::map<LO, LO>(interface.dual_to_primal_node)));
+      L0->Set("DualNodeID2PrimalNodeID", Teuchos::rcp(new std::map<LO, LO>(interface.dual_to_primal_node)));
       L0->Set("Primal interface DOF map", interface.primal_interface_dofs);
       RCP<const Map> segregation = interface.segregation_dofs;
       if (segregation.is_null()) // nothing to cut: an empty set keeps every entry
@@ -126,7 +131,7 @@ namespace multigrid
   } // namespace
 
   RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
-                                              const RCP<MultiVector>& nullspace,
+                                              const RCP<MultiVector>&       nullspace,
                                               const Teuchos::ParameterList& parameters)
   {
     Teuchos::ParameterList list = parameters;
@@ -134,7 +139,7 @@ namespace multigrid
       list.set("number of equations", dofs_per_node);
     A->SetFixedBlockSize(dofs_per_node);
     MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, A->getRowMap()->getComm());
-    RCP<Hierarchy> H = interpreter.CreateHierarchy();
+    RCP<Hierarchy>                                  H = interpreter.CreateHierarchy();
     H->IsPreconditioner(true);
     H->GetLevel(0)->Set("A", A);
     if (!nullspace.is_null())
@@ -168,16 +173,16 @@ namespace multigrid
 
     if (preset.kind == "direct")
       {
-        auto direct = with_preset_context(preset.name, [&] {
-          return Teuchos::rcp(new DirectSolverOperator(system.merged_matrix()));
-        });
+        auto direct = with_preset_context(
+            preset.name, [&] { return Teuchos::rcp(new DirectSolverOperator(system.merged_matrix())); });
         info_.coarse_solver = "SuperLU (whole system)";
         info_.notes.push_back("L+U nonzeros " + std::to_string(direct->solver().factor_nonzeros()));
         op_ = direct;
       }
     else if (preset.kind == "cheapsimple")
       {
-        auto cs = with_preset_context(preset.name, [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
+        auto      cs    = with_preset_context(preset.name,
+                                              [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
         long long total = 0, fine = 0;
         for (const auto& [rows, nnz] : cs->primal_levels())
           {
@@ -189,13 +194,14 @@ namespace multigrid
         info_.notes.push_back("levels are those of the inner primal solver");
         info_.notes.push_back("Schur complement nonzeros " + std::to_string(cs->schur_nonzeros()));
         info_.coarse_solver = "primal: " + string_or(p.sublist("primal solver"), "coarse: type", "KLU2");
-        op_ = cs;
+        op_                 = cs;
       }
     else if (preset.kind == "amg")
       {
         if (system.n_blocks() != 1)
           throw InputError("preset '" + preset.name + "' is a single-field AMG, but the system has " +
-                           std::to_string(system.n_blocks()) + " blocks (use a saddle-point or cheapsimple preset)");
+                           std::to_string(system.n_blocks()) +
+                           " blocks (use a saddle-point or cheapsimple preset)");
         auto H = with_preset_context(preset.name, [&] {
           return build_single_field_hierarchy(system.merged_matrix(), system.block(0).dofs_per_node,
                                               system.nullspace_or_translations(0), p.sublist("MueLu"));
@@ -203,16 +209,17 @@ namespace multigrid
         fill_levels(info_, *H);
         hierarchy_          = H;
         info_.coarse_solver = string_or(p.sublist("MueLu"), "coarse: type", "KLU2");
-        op_ = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
+        op_                 = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
       }
     else if (preset.kind == "saddle-point-amg" || preset.kind == "muelu")
       {
         Teuchos::ParameterList muelu;
         if (preset.kind == "saddle-point-amg")
           {
-            const std::string xml = expand_template(preset, system.block(0).dofs_per_node,
-                                                    system.n_blocks() > 1 ? system.block(1).dofs_per_node : 1);
-            muelu = *Teuchos::getParametersFromXmlString(xml);
+            const std::string xml =
+                expand_template(preset, system.block(0).dofs_per_node,
+                                system.n_blocks() > 1 ? system.block(1).dofs_per_node : 1);
+            muelu               = *Teuchos::getParametersFromXmlString(xml);
             info_.coarse_solver = p.sublist("template parameters").get<std::string>("COARSE_SOLVER");
           }
         else
@@ -220,7 +227,8 @@ namespace multigrid
             muelu = p;
             muelu.remove("kind", false);
           }
-        auto H = with_preset_context(preset.name, [&] { return build_saddle_point_hierarchy(system, muelu); });
+        auto H =
+            with_preset_context(preset.name, [&] { return build_saddle_point_hierarchy(system, muelu); });
         fill_levels(info_, *H);
         for (int l = 0; l < H->GetNumLevels(); ++l)
           {
@@ -242,7 +250,8 @@ namespace multigrid
   RCP<const Matrix> BlockPreconditioner::prolongator_block(int level, int block) const
   {
     if (hierarchy_.is_null() || level + 1 >= hierarchy_->GetNumLevels())
-      throw InputError("preset '" + info_.preset + "' has no prolongator below level " + std::to_string(level));
+      throw InputError("preset '" + info_.preset + "' has no prolongator below level " +
+                       std::to_string(level));
     auto P  = hierarchy_->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
     auto bP = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(P);
     if (bP.is_null())

@@ -22,20 +22,20 @@ namespace multigrid
 {
   struct LevelInfo
   {
-    long long rows     = 0;
-    long long nonzeros = 0;
-    std::vector<long long> block_rows;   ///< per block, for blocked hierarchies
+    long long              rows     = 0;
+    long long              nonzeros = 0;
+    std::vector<long long> block_rows; ///< per block, for blocked hierarchies
   };
 
   struct PreconditionerInfo
   {
-    std::string            preset;
-    std::string            kind;
-    double                 setup_seconds = 0.0;
-    std::vector<LevelInfo> levels;           ///< level 0 = fine; empty for direct/cheapsimple outer
-    double                 operator_complexity = 1.0;
-    std::string            coarse_solver;
-    std::vector<std::string> notes;          ///< e.g. the inner solvers of CheapSIMPLE
+    std::string              preset;
+    std::string              kind;
+    double                   setup_seconds = 0.0;
+    std::vector<LevelInfo>   levels; ///< level 0 = fine; empty for direct/cheapsimple outer
+    double                   operator_complexity = 1.0;
+    std::string              coarse_solver;
+    std::vector<std::string> notes; ///< e.g. the inner solvers of CheapSIMPLE
   };
 
   class BlockPreconditioner
@@ -50,8 +50,8 @@ namespace multigrid
 
     /// Diagnostics of MueLu-based presets: block `block` of the prolongator from level
     /// `level` + 1 to `level` (level 0 = fine). Throws InputError for other kinds or levels.
-    RCP<const Matrix> prolongator_block(int level, int block) const;
-    const PreconditionerInfo&             info() const { return info_; }
+    RCP<const Matrix>         prolongator_block(int level, int block) const;
+    const PreconditionerInfo& info() const { return info_; }
 
   private:
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;

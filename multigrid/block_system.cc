@@ -56,10 +56,12 @@ namespace multigrid
           missing = !has;
         }
       int missing_anywhere = 0;
-      Teuchos::reduceAll(*A->getRowMap()->getComm(), Teuchos::REDUCE_MAX, missing, Teuchos::outArg(missing_anywhere));
+      Teuchos::reduceAll(*A->getRowMap()->getComm(), Teuchos::REDUCE_MAX, missing,
+                         Teuchos::outArg(missing_anywhere));
       if (!missing_anywhere)
         return A;
-      RCP<Matrix> B = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A->getRowMap(), A->getNodeMaxNumRowEntries() + 1);
+      RCP<Matrix> B =
+          Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A->getRowMap(), A->getNodeMaxNumRowEntries() + 1);
       for (std::size_t i = 0; i < A->getNodeNumRows(); ++i)
         {
           Teuchos::ArrayView<const LO> cols;
@@ -86,31 +88,28 @@ namespace multigrid
     }
   } // namespace
 
-  BlockSystem BlockSystem::from_merged(RCP<const Comm>                     comm,
-                                       std::vector<BlockInfo>              blocks,
+  BlockSystem BlockSystem::from_merged(RCP<const Comm> comm, std::vector<BlockInfo> blocks,
                                        const std::vector<std::vector<GO>>& owned_block_gids,
-                                       RCP<Matrix>                         merged_matrix,
-                                       RCP<MultiVector>                    rhs)
+                                       RCP<Matrix> merged_matrix, RCP<MultiVector> rhs)
   {
     if (blocks.empty() || blocks.size() != owned_block_gids.size())
       throw InputError("BlockSystem: expected one list of owned DOFs per block, got " +
-                       std::to_string(owned_block_gids.size()) + " for " +
-                       std::to_string(blocks.size()) + " blocks");
+                       std::to_string(owned_block_gids.size()) + " for " + std::to_string(blocks.size()) +
+                       " blocks");
     BlockSystem system;
     system.comm_ = comm;
 
     // Block k owns the global ids [offset_k, offset_k + n_k): strided maps with the block's DOFs
     // per node, so that MueLu's SubBlockAFactory can recover the striding on every block.
-    GO offset = 0;
+    GO                          offset = 0;
     std::vector<RCP<const Map>> sub_maps;
     for (std::size_t k = 0; k < blocks.size(); ++k)
       {
         BlockInfo& b = blocks[k];
         if (b.dofs_per_node < 1 || b.global_size % b.dofs_per_node != 0)
-          throw InputError("BlockSystem: block '" + b.name + "' has " +
-                           std::to_string(b.global_size) + " DOFs, not a multiple of " +
-                           std::to_string(b.dofs_per_node) + " DOFs per node");
-        b.offset = offset;
+          throw InputError("BlockSystem: block '" + b.name + "' has " + std::to_string(b.global_size) +
+                           " DOFs, not a multiple of " + std::to_string(b.dofs_per_node) + " DOFs per node");
+        b.offset         = offset;
         const auto& gids = owned_block_gids[k];
         if (gids.size() % b.dofs_per_node != 0)
           throw InputError("BlockSystem: block '" + b.name + "': owned DOFs on rank " +
@@ -130,16 +129,16 @@ namespace multigrid
 
     if (merged_matrix->getGlobalNumRows() != static_cast<Xpetra::global_size_t>(offset) ||
         merged_matrix->getGlobalNumCols() != static_cast<Xpetra::global_size_t>(offset))
-      throw InputError("BlockSystem: matrix is " + std::to_string(merged_matrix->getGlobalNumRows()) +
-                       " x " + std::to_string(merged_matrix->getGlobalNumCols()) +
-                       ", but the blocks add up to " + std::to_string(offset));
+      throw InputError("BlockSystem: matrix is " + std::to_string(merged_matrix->getGlobalNumRows()) + " x " +
+                       std::to_string(merged_matrix->getGlobalNumCols()) + ", but the blocks add up to " +
+                       std::to_string(offset));
 
     // Bring the matrix and the right-hand side into the block distribution if necessary.
     if (!same_distribution(*merged_matrix->getRowMap(), *full_map))
       {
         auto importer = Xpetra::ImportFactory<LO, GO, NO>::Build(merged_matrix->getRowMap(), full_map);
-        merged_matrix = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(merged_matrix, *importer,
-                                                                     full_map, full_map);
+        merged_matrix =
+            Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(merged_matrix, *importer, full_map, full_map);
         if (!rhs.is_null())
           {
             auto moved = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(full_map, rhs->getNumVectors());
@@ -150,13 +149,13 @@ namespace multigrid
     if (rhs.is_null())
       rhs = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(full_map, 1, true);
     if (rhs->getGlobalLength() != static_cast<Xpetra::global_size_t>(offset))
-      throw InputError("BlockSystem: right-hand side has length " +
-                       std::to_string(rhs->getGlobalLength()) + ", expected " + std::to_string(offset));
+      throw InputError("BlockSystem: right-hand side has length " + std::to_string(rhs->getGlobalLength()) +
+                       ", expected " + std::to_string(offset));
 
     merged_matrix     = with_structural_diagonal(merged_matrix);
     system.extractor_ = Xpetra::MapExtractorFactory<SC, LO, GO, NO>::Build(full_map, sub_maps, false);
     system.blocked_   = Xpetra::MatrixUtils<SC, LO, GO, NO>::SplitMatrix(*merged_matrix, system.extractor_,
-                                                                        system.extractor_);
+                                                                         system.extractor_);
     system.merged_    = merged_matrix;
     system.rhs_       = rhs;
     system.blocks_    = std::move(blocks);
@@ -171,7 +170,10 @@ namespace multigrid
     return n;
   }
 
-  RCP<const Map> BlockSystem::full_map() const { return extractor_->getFullMap(); }
+  RCP<const Map> BlockSystem::full_map() const
+  {
+    return extractor_->getFullMap();
+  }
 
   const InterfaceInfo& BlockSystem::interface() const
   {
@@ -181,7 +183,10 @@ namespace multigrid
     return *interface_;
   }
 
-  void BlockSystem::set_interface(InterfaceInfo info) { interface_ = std::move(info); }
+  void BlockSystem::set_interface(InterfaceInfo info)
+  {
+    interface_ = std::move(info);
+  }
 
   RCP<MultiVector> BlockSystem::nullspace_or_translations(std::size_t k) const
   {
@@ -217,7 +222,7 @@ namespace multigrid
                        std::to_string(bad_row_global + 1) + " (1-based); expected finite values");
     {
       const auto data = rhs_->getData(0);
-      int bad = 0;
+      int        bad  = 0;
       for (const SC v : data)
         bad |= !std::isfinite(v);
       int bad_global = 0;
@@ -237,30 +242,30 @@ namespace multigrid
         if (blocks_.size() != 2)
           throw InputError(where + ": interface data needs exactly 2 blocks (primal, dual), got " +
                            std::to_string(blocks_.size()));
-        const auto& dual   = blocks_[1];
-        const auto& primal = blocks_[0];
-        const LO n_dual_nodes   = dual.map->getNodeNumElements() / dual.dofs_per_node;
-        const LO n_primal_nodes = primal.map->getNodeNumElements() / primal.dofs_per_node;
+        const auto& dual           = blocks_[1];
+        const auto& primal         = blocks_[0];
+        const LO    n_dual_nodes   = dual.map->getNodeNumElements() / dual.dofs_per_node;
+        const LO    n_primal_nodes = primal.map->getNodeNumElements() / primal.dofs_per_node;
         if (static_cast<LO>(interface_->dual_to_primal_node.size()) != n_dual_nodes)
           throw InputError(where + ": dual-to-primal node mapping has " +
-                           std::to_string(interface_->dual_to_primal_node.size()) +
-                           " entries on rank " + std::to_string(comm_->getRank()) + ", expected " +
-                           std::to_string(n_dual_nodes) + " (one per local multiplier node)");
+                           std::to_string(interface_->dual_to_primal_node.size()) + " entries on rank " +
+                           std::to_string(comm_->getRank()) + ", expected " + std::to_string(n_dual_nodes) +
+                           " (one per local multiplier node)");
         for (const auto& [d, p] : interface_->dual_to_primal_node)
           if (d < 0 || d >= n_dual_nodes || p < 0 || p >= n_primal_nodes)
-            throw InputError(where + ": dual-to-primal node mapping entry " + std::to_string(d) +
-                             " -> " + std::to_string(p) + " is out of range on rank " +
+            throw InputError(where + ": dual-to-primal node mapping entry " + std::to_string(d) + " -> " +
+                             std::to_string(p) + " is out of range on rank " +
                              std::to_string(comm_->getRank()));
       }
   }
 
   std::vector<double> BlockSystem::block_norms(const MultiVector& v) const
   {
-    std::vector<double> norms;
+    std::vector<double>    norms;
     RCP<const MultiVector> vp = Teuchos::rcpFromRef(v);
     for (std::size_t k = 0; k < blocks_.size(); ++k)
       {
-        auto part = extractor_->ExtractVector(vp, k);
+        auto                   part = extractor_->ExtractVector(vp, k);
         Teuchos::Array<double> n(1);
         part->norm2(n);
         norms.push_back(n[0]);
@@ -288,15 +293,14 @@ namespace multigrid
     return modes;
   }
 
-  RCP<MultiVector> rigid_body_modes(const RCP<const Map>& dof_map, int dim,
-                                    const std::vector<double>& x)
+  RCP<MultiVector> rigid_body_modes(const RCP<const Map>& dof_map, int dim, const std::vector<double>& x)
   {
     const std::size_t n_nodes = dof_map->getNodeNumElements() / dim;
     if (x.size() != n_nodes * dim)
       throw InputError("rigid_body_modes: " + std::to_string(x.size() / std::max(dim, 1)) +
                        " coordinates for " + std::to_string(n_nodes) + " local nodes");
     const int n_modes = (dim == 2) ? 3 : 6;
-    auto modes = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(dof_map, n_modes, true);
+    auto      modes   = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(dof_map, n_modes, true);
     std::vector<Teuchos::ArrayRCP<SC>> m;
     for (int j = 0; j < n_modes; ++j)
       m.push_back(modes->getDataNonConst(j));

@@ -26,13 +26,13 @@ namespace multigrid
   /// Description of one field (one block row/column of the operator).
   struct BlockInfo
   {
-    std::string name;           ///< e.g. "displacement", "lagrange multiplier"
-    int         dofs_per_node = 1;
-    GO          global_size   = 0;
-    GO          offset        = 0;       ///< first global DOF id of the block
-    RCP<const StridedMap> map;           ///< owned DOFs of this rank, striding = dofs_per_node
-    RCP<MultiVector> nullspace;          ///< near-nullspace on `map` (may be null: constants)
-    RCP<MultiVector> coordinates;        ///< nodal coordinates on the node map (may be null)
+    std::string           name; ///< e.g. "displacement", "lagrange multiplier"
+    int                   dofs_per_node = 1;
+    GO                    global_size   = 0;
+    GO                    offset        = 0; ///< first global DOF id of the block
+    RCP<const StridedMap> map;               ///< owned DOFs of this rank, striding = dofs_per_node
+    RCP<MultiVector>      nullspace;         ///< near-nullspace on `map` (may be null: constants)
+    RCP<MultiVector>      coordinates;       ///< nodal coordinates on the node map (may be null)
   };
 
   /// Contact / meshtying interface data. Block 0 is primal (displacements), block 1 dual (multipliers).
@@ -47,7 +47,7 @@ namespace multigrid
     /// entry coupling this set to its complement, so no aggregate crosses the contact interface.
     /// Null when the primal block has no such coupling to cut.
     RCP<const Map> segregation_dofs;
-    /// Optional master / slave DOF sets for reporting.
+    /// Optional master / slave body DOF sets (reporting, diagnostics).
     RCP<const Map> master_dofs, slave_dofs;
   };
 
@@ -57,14 +57,12 @@ namespace multigrid
     /// Build from a matrix whose row map already follows the block numbering convention.
     /// `owned_block_gids[k]` are this rank's DOFs of block k (ascending, node-complete); the
     /// matrix and the rhs are imported into that distribution if they live elsewhere.
-    static BlockSystem from_merged(RCP<const Comm>                        comm,
-                                   std::vector<BlockInfo>                 blocks,
-                                   const std::vector<std::vector<GO>>&    owned_block_gids,
-                                   RCP<Matrix>                            merged_matrix,
-                                   RCP<MultiVector>                       rhs);
+    static BlockSystem from_merged(RCP<const Comm> comm, std::vector<BlockInfo> blocks,
+                                   const std::vector<std::vector<GO>>& owned_block_gids,
+                                   RCP<Matrix> merged_matrix, RCP<MultiVector> rhs);
 
-    RCP<const Comm> comm() const { return comm_; }
-    std::size_t     n_blocks() const { return blocks_.size(); }
+    RCP<const Comm>  comm() const { return comm_; }
+    std::size_t      n_blocks() const { return blocks_.size(); }
     const BlockInfo& block(std::size_t k) const { return blocks_.at(k); }
     BlockInfo&       block(std::size_t k) { return blocks_.at(k); }
     GO               global_size() const;
@@ -72,15 +70,15 @@ namespace multigrid
     /// Blocked operator (SubBlockAFactory-compatible: strided maps, Xpetra numbering).
     RCP<BlockedCrsMatrix> blocked_matrix() const { return blocked_; }
     /// The same operator as one CrsMatrix on the full map (fast apply for the Krylov method).
-    RCP<Matrix> merged_matrix() const { return merged_; }
-    RCP<const Map> full_map() const;
+    RCP<Matrix>             merged_matrix() const { return merged_; }
+    RCP<const Map>          full_map() const;
     RCP<const MapExtractor> map_extractor() const { return extractor_; }
-    RCP<MultiVector> rhs() const { return rhs_; }
-    void             set_rhs(RCP<MultiVector> b) { rhs_ = std::move(b); }
+    RCP<MultiVector>        rhs() const { return rhs_; }
+    void                    set_rhs(RCP<MultiVector> b) { rhs_ = std::move(b); }
 
-    bool has_interface() const { return interface_.has_value(); }
+    bool                 has_interface() const { return interface_.has_value(); }
     const InterfaceInfo& interface() const;
-    void set_interface(InterfaceInfo info);
+    void                 set_interface(InterfaceInfo info);
 
     /// Near-nullspace of block k, or the constant vectors per DOF component when none is stored
     /// (translations: what Lagrange multipliers and ALE fields use).
@@ -94,12 +92,12 @@ namespace multigrid
     std::vector<double> block_norms(const MultiVector& v) const;
 
   private:
-    RCP<const Comm>             comm_;
-    std::vector<BlockInfo>      blocks_;
-    RCP<Matrix>                 merged_;
-    RCP<BlockedCrsMatrix>       blocked_;
-    RCP<const MapExtractor>     extractor_;
-    RCP<MultiVector>            rhs_;
+    RCP<const Comm>              comm_;
+    std::vector<BlockInfo>       blocks_;
+    RCP<Matrix>                  merged_;
+    RCP<BlockedCrsMatrix>        blocked_;
+    RCP<const MapExtractor>      extractor_;
+    RCP<MultiVector>             rhs_;
     std::optional<InterfaceInfo> interface_;
   };
 

@@ -28,14 +28,14 @@ namespace multigrid
         std::string name;
         GO          size          = 0;
         int         dofs_per_node = 1;
-        std::string nullspace;   ///< file or empty
+        std::string nullspace; ///< file or empty
       };
-      std::string        source;   ///< for messages
+      std::string        source; ///< for messages
       std::string        matrix, rhs;
       std::vector<Block> blocks;
       bool               has_interface = false;
-      std::vector<GO>    dual_to_primal;       ///< primal node of every dual node (global)
-      std::vector<GO>    segregation_gids;     ///< DOFs of the slave body (global), may be empty
+      std::vector<GO>    dual_to_primal;   ///< primal node of every dual node (global)
+      std::vector<GO>    segregation_gids; ///< DOFs of the slave body (global), may be empty
     };
 
     void require_file(const std::string& file, const std::string& what)
@@ -76,9 +76,9 @@ namespace multigrid
         throw InputError(file + ": expected a Matrix Market 'array integer' file");
       rows = header.rows;
       cols = header.cols;
-      std::ifstream in(file);
-      std::string   line;
-      bool          seen_size = false;
+      std::ifstream   in(file);
+      std::string     line;
+      bool            seen_size = false;
       std::vector<GO> values;
       while (std::getline(in, line))
         {
@@ -104,7 +104,7 @@ namespace multigrid
       std::string   line, format;
       int           line_no = 0;
       std::string   dual_to_primal_file, segregation_file;
-      auto bad = [&](const std::string& what) {
+      auto          bad = [&](const std::string& what) {
         throw InputError(manifest + ":" + std::to_string(line_no) + ": " + what);
       };
       while (std::getline(in, line))
@@ -152,7 +152,7 @@ namespace multigrid
         d.rhs = (fs::path(dir) / d.rhs).string();
       if (d.has_interface)
         {
-          long long rows = 0, cols = 0;
+          long long         rows = 0, cols = 0;
           const std::string f = (fs::path(dir) / dual_to_primal_file).string();
           require_file(f, "dual-to-primal mapping");
           const auto v = read_integer_array(f, rows, cols);
@@ -177,7 +177,8 @@ namespace multigrid
       Description d;
       // PREFIX_block_matrix.mm, where present, is the whole system and PREFIX_matrix.mm its
       // primal block (the segregatedAgg convention); otherwise PREFIX_matrix.mm is the whole system.
-      d.source = fs::is_regular_file(prefix + "_block_matrix.mm") ? prefix + "_block_matrix.mm" : prefix + "_matrix.mm";
+      d.source = fs::is_regular_file(prefix + "_block_matrix.mm") ? prefix + "_block_matrix.mm"
+                                                                  : prefix + "_matrix.mm";
       d.matrix = d.source;
       require_file(d.matrix, "matrix");
       d.rhs = prefix + "_rhs.mm";
@@ -209,8 +210,7 @@ namespace multigrid
       std::sort(slave.begin(), slave.end());
       if (static_cast<GO>(slave.size()) != n_dual)
         throw InputError(interface_file + ": " + std::to_string(slave.size()) +
-                         " interface DOFs, expected one per multiplier DOF (" +
-                         std::to_string(n_dual) + ")");
+                         " interface DOFs, expected one per multiplier DOF (" + std::to_string(n_dual) + ")");
       d.has_interface = true;
       for (std::size_t k = 0; k < slave.size(); k += dpn)
         {
@@ -235,8 +235,7 @@ namespace multigrid
         {
           if (b.size % b.dofs_per_node != 0)
             throw InputError(d.source + ": block '" + b.name + "' size " + std::to_string(b.size) +
-                             " is not a multiple of " + std::to_string(b.dofs_per_node) +
-                             " DOFs per node");
+                             " is not a multiple of " + std::to_string(b.dofs_per_node) + " DOFs per node");
           total += b.size;
         }
       on_root(*comm, [&] {
@@ -263,8 +262,7 @@ namespace multigrid
               const auto n = scan_matrix_market(b.nullspace);
               if (n.coordinate || n.rows != b.size)
                 throw InputError(b.nullspace + ": nullspace has " + std::to_string(n.rows) +
-                                 " rows, expected " + std::to_string(b.size) + " (block '" +
-                                 b.name + "')");
+                                 " rows, expected " + std::to_string(b.size) + " (block '" + b.name + "')");
             }
         if (d.has_interface)
           {
@@ -280,22 +278,21 @@ namespace multigrid
             for (GO p : d.dual_to_primal)
               if (p < 0 || p >= n_primal_nodes)
                 throw InputError(d.source + ": dual-to-primal mapping names primal node " +
-                                 std::to_string(p) + ", expected 0.." +
-                                 std::to_string(n_primal_nodes - 1));
+                                 std::to_string(p) + ", expected 0.." + std::to_string(n_primal_nodes - 1));
           }
       });
 
       // Owned DOFs: primal nodes in contiguous chunks; multiplier nodes follow their primal node.
-      const int rank = comm->getRank(), size = comm->getSize();
-      std::vector<BlockInfo>        blocks;
-      std::vector<std::vector<GO>>  owned(d.blocks.size());
-      std::vector<GO>               first_node(d.blocks.size(), 0);
-      GO offset = 0;
-      const auto primal_nodes = chunk(d.blocks[0].size / d.blocks[0].dofs_per_node, rank, size);
+      const int                    rank = comm->getRank(), size = comm->getSize();
+      std::vector<BlockInfo>       blocks;
+      std::vector<std::vector<GO>> owned(d.blocks.size());
+      std::vector<GO>              first_node(d.blocks.size(), 0);
+      GO                           offset = 0;
+      const auto primal_nodes             = chunk(d.blocks[0].size / d.blocks[0].dofs_per_node, rank, size);
       for (std::size_t k = 0; k < d.blocks.size(); ++k)
         {
-          const auto& b   = d.blocks[k];
-          const GO    n   = b.size / b.dofs_per_node;
+          const auto& b = d.blocks[k];
+          const GO    n = b.size / b.dofs_per_node;
           if (k == 1 && d.has_interface)
             {
               for (GO j = 0; j < n; ++j)
@@ -324,23 +321,23 @@ namespace multigrid
       for (const auto& o : owned)
         all.insert(all.end(), o.begin(), o.end());
       RCP<const Map> row_map = Xpetra::MapFactory<LO, GO, NO>::Build(
-        Xpetra::UseTpetra, total, Teuchos::ArrayView<const GO>(all), 0, comm);
+          Xpetra::UseTpetra, total, Teuchos::ArrayView<const GO>(all), 0, comm);
 
-      using IO = Xpetra::IO<SC, LO, GO, NO>;
-      RCP<Matrix>      A   = IO::Read(d.matrix, row_map);
-      RCP<MultiVector> rhs = d.rhs.empty() ? Teuchos::null : IO::ReadMultiVector(d.rhs, row_map);
-      BlockSystem system = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
+      using IO                = Xpetra::IO<SC, LO, GO, NO>;
+      RCP<Matrix>      A      = IO::Read(d.matrix, row_map);
+      RCP<MultiVector> rhs    = d.rhs.empty() ? Teuchos::null : IO::ReadMultiVector(d.rhs, row_map);
+      BlockSystem      system = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
 
       for (std::size_t k = 0; k < d.blocks.size(); ++k)
         if (!d.blocks[k].nullspace.empty())
           {
             // Nullspace files are numbered within their block: read on a shifted copy of the map.
-            const auto& map = system.block(k).map;
+            const auto&     map = system.block(k).map;
             std::vector<GO> local;
             for (GO g : map->getNodeElementList())
               local.push_back(g - system.block(k).offset);
             RCP<const Map> block_local = Xpetra::MapFactory<LO, GO, NO>::Build(
-              Xpetra::UseTpetra, d.blocks[k].size, Teuchos::ArrayView<const GO>(local), 0, comm);
+                Xpetra::UseTpetra, d.blocks[k].size, Teuchos::ArrayView<const GO>(local), 0, comm);
             auto nsp  = IO::ReadMultiVector(d.blocks[k].nullspace, block_local);
             auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, nsp->getNumVectors());
             for (std::size_t j = 0; j < nsp->getNumVectors(); ++j)
@@ -355,23 +352,23 @@ namespace multigrid
 
       if (d.has_interface)
         {
-          InterfaceInfo info;
-          const auto& primal = system.block(0);
-          const auto& dual   = system.block(1);
+          InterfaceInfo   info;
+          const auto&     primal = system.block(0);
+          const auto&     dual   = system.block(1);
           std::vector<GO> interface_dofs;
-          const auto dual_gids = dual.map->getNodeElementList();
+          const auto      dual_gids = dual.map->getNodeElementList();
           for (std::size_t i = 0; i < dual_gids.size(); i += dual.dofs_per_node)
             {
               const GO dual_node   = (dual_gids[i] - dual.offset) / dual.dofs_per_node;
               const GO primal_node = d.dual_to_primal[dual_node];
               info.dual_to_primal_node[static_cast<LO>(i / dual.dofs_per_node)] =
-                static_cast<LO>(primal_node - primal_nodes.first);
+                  static_cast<LO>(primal_node - primal_nodes.first);
               for (int c = 0; c < primal.dofs_per_node; ++c)
                 interface_dofs.push_back(primal_node * primal.dofs_per_node + c);
             }
           info.primal_interface_dofs = Xpetra::MapFactory<LO, GO, NO>::Build(
-            Xpetra::UseTpetra, Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid(),
-            Teuchos::ArrayView<const GO>(interface_dofs), 0, comm);
+              Xpetra::UseTpetra, Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid(),
+              Teuchos::ArrayView<const GO>(interface_dofs), 0, comm);
           if (!d.segregation_gids.empty())
             {
               std::vector<GO> mine;
@@ -379,8 +376,8 @@ namespace multigrid
                 if (primal.map->isNodeGlobalElement(g))
                   mine.push_back(g);
               info.segregation_dofs = Xpetra::MapFactory<LO, GO, NO>::Build(
-                Xpetra::UseTpetra, Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid(),
-                Teuchos::ArrayView<const GO>(mine), 0, comm);
+                  Xpetra::UseTpetra, Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid(),
+                  Teuchos::ArrayView<const GO>(mine), 0, comm);
             }
           system.set_interface(std::move(info));
         }
@@ -402,7 +399,7 @@ namespace multigrid
     ++line_no;
     {
       std::istringstream s(line);
-      std::string banner, object, format, symmetry;
+      std::string        banner, object, format, symmetry;
       s >> banner >> object >> format >> h.field >> symmetry;
       if (object != "matrix" || (format != "coordinate" && format != "array"))
         throw InputError(file + ":1: expected 'matrix coordinate' or 'matrix array'");
@@ -439,8 +436,8 @@ namespace multigrid
               throw InputError(where + "expected 'row column value'");
             if (i < 1 || i > h.rows || j < 1 || j > h.cols)
               throw InputError(where + "index (" + std::to_string(i) + ", " + std::to_string(j) +
-                               ") outside the " + std::to_string(h.rows) + " x " +
-                               std::to_string(h.cols) + " matrix");
+                               ") outside the " + std::to_string(h.rows) + " x " + std::to_string(h.cols) +
+                               " matrix");
           }
         else if (!(s >> value))
           throw InputError(where + "expected a value");
@@ -460,7 +457,7 @@ namespace multigrid
   std::vector<GO> read_map_gids(const std::string& file)
   {
     require_file(file, "map");
-    long long rows = 0, cols = 0;
+    long long  rows = 0, cols = 0;
     const auto v = read_integer_array(file, rows, cols);
     if (cols != 1 || v.size() % 2 != 0)
       throw InputError(file + ": expected a Tpetra map file ((GID, PID) pairs in one column)");
@@ -482,7 +479,7 @@ namespace multigrid
 
   void write_block_system(const BlockSystem& system, const std::string& dir)
   {
-    using IO = Xpetra::IO<SC, LO, GO, NO>;
+    using IO                  = Xpetra::IO<SC, LO, GO, NO>;
     const auto&       comm    = *system.comm();
     const std::string partial = dir + ".partial";
     on_root(comm, [&] {
@@ -500,7 +497,7 @@ namespace multigrid
     IO::Write(partial + "/rhs.mm", *system.rhs());
     for (std::size_t k = 0; k < system.n_blocks(); ++k)
       {
-        const auto& b = system.block(k);
+        const auto& b        = system.block(k);
         std::string nsp_name = "-";
         if (!b.nullspace.is_null())
           {
@@ -509,8 +506,9 @@ namespace multigrid
             for (GO g : b.map->getNodeElementList())
               local.push_back(g - b.offset);
             RCP<const Map> block_local = Xpetra::MapFactory<LO, GO, NO>::Build(
-              Xpetra::UseTpetra, b.global_size, Teuchos::ArrayView<const GO>(local), 0, system.comm());
-            auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(block_local, b.nullspace->getNumVectors());
+                Xpetra::UseTpetra, b.global_size, Teuchos::ArrayView<const GO>(local), 0, system.comm());
+            auto copy =
+                Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(block_local, b.nullspace->getNumVectors());
             for (std::size_t j = 0; j < b.nullspace->getNumVectors(); ++j)
               {
                 auto src = b.nullspace->getData(j);
@@ -523,21 +521,21 @@ namespace multigrid
           }
         std::string name = b.name;
         std::replace(name.begin(), name.end(), ' ', '_');
-        manifest << "block " << name << " " << b.global_size << " " << b.dofs_per_node << " "
-                 << nsp_name << "\n";
+        manifest << "block " << name << " " << b.global_size << " " << b.dofs_per_node << " " << nsp_name
+                 << "\n";
       }
     if (system.has_interface())
       {
-        const auto& info   = system.interface();
-        const auto& primal = system.block(0);
-        const auto& dual   = system.block(1);
-        const GO    n_dual = dual.global_size / dual.dofs_per_node;
+        const auto&     info   = system.interface();
+        const auto&     primal = system.block(0);
+        const auto&     dual   = system.block(1);
+        const GO        n_dual = dual.global_size / dual.dofs_per_node;
         std::vector<GO> local(n_dual, -1), global(n_dual, -1);
-        const auto dual_gids   = dual.map->getNodeElementList();
-        const auto primal_gids = primal.map->getNodeElementList();
+        const auto      dual_gids   = dual.map->getNodeElementList();
+        const auto      primal_gids = primal.map->getNodeElementList();
         for (const auto& [d, p] : info.dual_to_primal_node)
           local[(dual_gids[d * dual.dofs_per_node] - dual.offset) / dual.dofs_per_node] =
-            primal_gids[p * primal.dofs_per_node] / primal.dofs_per_node;
+              primal_gids[p * primal.dofs_per_node] / primal.dofs_per_node;
         Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, static_cast<int>(n_dual), local.data(), global.data());
         std::string segregation = "-";
         if (!info.segregation_dofs.is_null())

@@ -47,7 +47,7 @@ namespace multigrid
   struct MatrixMarketHeader
   {
     bool        coordinate = false;
-    std::string field;   ///< real, integer, ...
+    std::string field; ///< real, integer, ...
     long long   rows = 0, cols = 0, entries = 0;
   };
   /// Reads the header and checks every entry line: index ranges, count, finite values. Throws

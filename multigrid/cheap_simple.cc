@@ -16,23 +16,23 @@
 namespace multigrid
 {
   CheapSimpleOperator::CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& p)
-    : system_(system)
+      : system_(system)
   {
     if (system.n_blocks() != 2)
       throw InputError("CheapSIMPLE needs a 2 x 2 block system, got " + std::to_string(system.n_blocks()) +
                        " blocks");
-    sweeps_        = p.get<int>("sweeps");
-    damping_       = p.get<double>("damping");
+    sweeps_            = p.get<int>("sweeps");
+    damping_           = p.get<double>("damping");
     const bool simplec = p.get<bool>("simplec");
     if (sweeps_ < 1 || !(damping_ > 0.0))
       throw InputError("CheapSIMPLE: sweeps must be >= 1 and damping > 0 (got " + std::to_string(sweeps_) +
                        ", " + std::to_string(damping_) + ")");
 
     const auto blocked = system.blocked_matrix();
-    A_   = blocked->getMatrix(0, 0);
-    B1t_ = blocked->getMatrix(0, 1);
-    B2_  = blocked->getMatrix(1, 0);
-    RCP<Matrix> C = blocked->getMatrix(1, 1);
+    A_                 = blocked->getMatrix(0, 0);
+    B1t_               = blocked->getMatrix(0, 1);
+    B2_                = blocked->getMatrix(1, 0);
+    RCP<Matrix> C      = blocked->getMatrix(1, 1);
 
     // Â^-1: inverse diagonal (SIMPLE) or inverse absolute row sums (SIMPLEC) of A.
     auto inv = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A_->getRowMap(), true);
@@ -58,7 +58,7 @@ namespace multigrid
     inv_diag_ = inv;
 
     // S = C - B2 Â^-1 B1^T, formed explicitly (sparse: Â is diagonal).
-    auto out         = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
+    auto        out  = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
     RCP<Matrix> DB1t = Xpetra::MatrixFactory<SC, LO, GO, NO>::BuildCopy(B1t_);
     DB1t->leftScale(*inv);
     RCP<Matrix> product = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*B2_, false, *DB1t, false, *out);
@@ -73,22 +73,22 @@ namespace multigrid
     schur_  = build_single_field_hierarchy(S_, 1, Teuchos::null, p.sublist("schur solver"));
   }
 
-  void CheapSimpleOperator::apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode, SC alpha,
-                                  SC beta) const
+  void CheapSimpleOperator::apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,
+                                  Teuchos::ETransp mode, SC alpha, SC beta) const
   {
     if (mode != Teuchos::NO_TRANS)
       throw std::logic_error("CheapSimpleOperator: transposed apply is not supported");
-    using MVF           = Xpetra::MultiVectorFactory<SC, LO, GO, NO>;
-    const auto& ext     = *system_.map_extractor();
-    const auto  full    = system_.full_map();
-    const auto  n       = X.getNumVectors();
-    auto        x       = MVF::Build(full, n, true);
-    auto        r       = MVF::Build(full, n);
-    auto        dx1     = MVF::Build(A_->getRangeMap(), n);
-    auto        dx2     = MVF::Build(S_->getRangeMap(), n);
-    auto        tmp1    = MVF::Build(A_->getRangeMap(), n);
-    auto        rhs2    = MVF::Build(S_->getRangeMap(), n);
-    
+    using MVF        = Xpetra::MultiVectorFactory<SC, LO, GO, NO>;
+    const auto& ext  = *system_.map_extractor();
+    const auto  full = system_.full_map();
+    const auto  n    = X.getNumVectors();
+    auto        x    = MVF::Build(full, n, true);
+    auto        r    = MVF::Build(full, n);
+    auto        dx1  = MVF::Build(A_->getRangeMap(), n);
+    auto        dx2  = MVF::Build(S_->getRangeMap(), n);
+    auto        tmp1 = MVF::Build(A_->getRangeMap(), n);
+    auto        rhs2 = MVF::Build(S_->getRangeMap(), n);
+
     for (int sweep = 0; sweep < sweeps_; ++sweep)
       {
         // 1. residual of the current iterate (x = 0 on the first sweep)
@@ -125,7 +125,7 @@ namespace multigrid
   }
 
   void CheapSimpleOperator::residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
-                                       ::multigrid::MultiVector& R) const
+                                     ::multigrid::MultiVector& R) const
   {
     system_.merged_matrix()->apply(X, R);
     R.update(1.0, B, -1.0);
@@ -136,5 +136,8 @@ namespace multigrid
     return level_sizes(*primal_);
   }
 
-  long long CheapSimpleOperator::schur_nonzeros() const { return S_->getGlobalNumEntries(); }
+  long long CheapSimpleOperator::schur_nonzeros() const
+  {
+    return S_->getGlobalNumEntries();
+  }
 } // namespace multigrid

@@ -36,20 +36,21 @@ namespace multigrid
 
     RCP<const ::multigrid::Map> getDomainMap() const override { return system_.full_map(); }
     RCP<const ::multigrid::Map> getRangeMap() const override { return system_.full_map(); }
-    void apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
-               SC alpha = 1.0, SC beta = 0.0) const override;
-    void residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, ::multigrid::MultiVector& R) const override;
+    void                        apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,
+                                      Teuchos::ETransp mode = Teuchos::NO_TRANS, SC alpha = 1.0, SC beta = 0.0) const override;
+    void                        residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
+                                         ::multigrid::MultiVector& R) const override;
 
     /// Levels of the inner primal AMG (fine first) and of the Schur solver, for the report.
     std::vector<std::pair<long long, long long>> primal_levels() const;
-    long long schur_nonzeros() const;
+    long long                                    schur_nonzeros() const;
 
   private:
-    const BlockSystem& system_;
-    int                sweeps_  = 1;
-    double             damping_ = 1.0;
-    RCP<Matrix>        A_, B1t_, B2_, S_;
-    RCP<::multigrid::MultiVector>   inv_diag_;     ///< 1 / Â on the primal map
+    const BlockSystem&                    system_;
+    int                                   sweeps_  = 1;
+    double                                damping_ = 1.0;
+    RCP<Matrix>                           A_, B1t_, B2_, S_;
+    RCP<::multigrid::MultiVector>         inv_diag_; ///< 1 / Â on the primal map
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> primal_, schur_;
   };
 } // namespace multigrid

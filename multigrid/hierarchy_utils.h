@@ -22,7 +22,7 @@ namespace multigrid
   /// Single-field MueLu hierarchy from MueLu's (simple or factory-style) parameter list, with the
   /// near-nullspace set on level 0 (rigid-body modes make SA elasticity-aware).
   RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
-                                              const RCP<MultiVector>& nullspace,
+                                              const RCP<MultiVector>&       nullspace,
                                               const Teuchos::ParameterList& muelu_parameters);
 
   /// (rows, nonzeros) of every level's operator, fine first.

@@ -42,9 +42,9 @@ namespace multigrid
           history.back() = norms[0];
         return Belos::Failed;
       }
-      Belos::StatusType getStatus() const override { return Belos::Failed; }
-      void              reset() override {}
-      void              print(std::ostream&, int) const override {}
+      Belos::StatusType   getStatus() const override { return Belos::Failed; }
+      void                reset() override {}
+      void                print(std::ostream&, int) const override {}
       std::vector<double> history;
     };
 
@@ -84,12 +84,14 @@ namespace multigrid
     // The blocked operator is needed by the per-block status tests (they split the residual with
     // its map extractor); otherwise the merged matrix applies faster.
     RCP<Xpetra::Operator<SC, LO, GO, NO>> A =
-      options.per_block ? Teuchos::rcp_dynamic_cast<Xpetra::Operator<SC, LO, GO, NO>>(system.blocked_matrix())
-                        : Teuchos::rcp_dynamic_cast<Xpetra::Operator<SC, LO, GO, NO>>(system.merged_matrix());
+        options.per_block
+            ? Teuchos::rcp_dynamic_cast<Xpetra::Operator<SC, LO, GO, NO>>(system.blocked_matrix())
+            : Teuchos::rcp_dynamic_cast<Xpetra::Operator<SC, LO, GO, NO>>(system.merged_matrix());
     auto belos_A = Teuchos::rcp(new Belos::XpetraOp<SC, LO, GO, NO>(A));
     auto belos_M = Teuchos::rcp(new Belos::XpetraOp<SC, LO, GO, NO>(preconditioner.op()));
     x.putScalar(0.0);
-    auto problem = Teuchos::rcp(new Belos::LinearProblem<SC, MV, OP>(belos_A, Teuchos::rcpFromRef(x), system.rhs()));
+    auto problem =
+        Teuchos::rcp(new Belos::LinearProblem<SC, MV, OP>(belos_A, Teuchos::rcpFromRef(x), system.rhs()));
     problem->setRightPrec(belos_M);
     problem->setProblem();
 
@@ -105,18 +107,20 @@ namespace multigrid
     gmres.setDebugStatusTest(history);
     if (options.per_block)
       {
-        auto all = Teuchos::rcp(new Belos::StatusTestCombo<SC, MV, OP>(Belos::StatusTestCombo<SC, MV, OP>::SEQ));
+        auto all =
+            Teuchos::rcp(new Belos::StatusTestCombo<SC, MV, OP>(Belos::StatusTestCombo<SC, MV, OP>::SEQ));
         for (std::size_t k = 0; k < system.n_blocks(); ++k)
-          all->addStatusTest(Teuchos::rcp(new Belos::StatusTestGenResSubNorm<SC, MV, OP>(options.tolerance, k)));
+          all->addStatusTest(
+              Teuchos::rcp(new Belos::StatusTestGenResSubNorm<SC, MV, OP>(options.tolerance, k)));
         gmres.setUserConvStatusTest(all, Belos::StatusTestCombo<SC, MV, OP>::SEQ);
       }
 
     Teuchos::Time timer("solve");
     timer.start(true);
     const Belos::ReturnType result = gmres.solve();
-    report.solve_seconds = timer.stop();
-    report.converged     = (result == Belos::Converged);
-    report.iterations    = gmres.getNumIters();
+    report.solve_seconds           = timer.stop();
+    report.converged               = (result == Belos::Converged);
+    report.iterations              = gmres.getNumIters();
 
     Teuchos::Array<double> bnorm(1);
     system.rhs()->norm2(bnorm);
@@ -147,8 +151,8 @@ namespace multigrid
         out << "levels              level        rows    nonzeros  blocks\n";
         for (std::size_t l = 0; l < p.levels.size(); ++l)
           {
-            out << "                    " << std::setw(5) << l << std::setw(12) << p.levels[l].rows << std::setw(12)
-                << p.levels[l].nonzeros << "  ";
+            out << "                    " << std::setw(5) << l << std::setw(12) << p.levels[l].rows
+                << std::setw(12) << p.levels[l].nonzeros << "  ";
             for (std::size_t k = 0; k < p.levels[l].block_rows.size(); ++k)
               out << (k ? " + " : "") << p.levels[l].block_rows[k];
             out << "\n";
@@ -163,7 +167,8 @@ namespace multigrid
     out << "GMRES               " << (r.converged ? "converged" : "NOT converged") << " in " << r.iterations
         << " iterations (tolerance " << r.options.tolerance << (r.options.per_block ? " per block" : "")
         << ", restart " << r.options.restart << ")\n"
-        << "true residual       " << std::scientific << std::setprecision(3) << r.relative_residual << " (relative)\n";
+        << "true residual       " << std::scientific << std::setprecision(3) << r.relative_residual
+        << " (relative)\n";
     for (std::size_t k = 0; k < r.block_names.size(); ++k)
       out << "  block " << k << " " << std::left << std::setw(20) << r.block_names[k] << std::right
           << r.block_relative_residuals[k] << "\n";
@@ -174,11 +179,11 @@ namespace multigrid
 
   std::string to_json(const SolveReport& r)
   {
-    const auto& p = r.preconditioner;
+    const auto&        p = r.preconditioner;
     std::ostringstream s;
     s << "{\"preset\":" << json_string(p.preset) << ",\"kind\":" << json_string(p.kind)
-      << ",\"global_size\":" << r.global_size << ",\"ranks\":" << r.ranks << ",\"converged\":"
-      << (r.converged ? "true" : "false") << ",\"iterations\":" << r.iterations
+      << ",\"global_size\":" << r.global_size << ",\"ranks\":" << r.ranks
+      << ",\"converged\":" << (r.converged ? "true" : "false") << ",\"iterations\":" << r.iterations
       << ",\"tolerance\":" << json_number(r.options.tolerance)
       << ",\"per_block_tolerance\":" << (r.options.per_block ? "true" : "false")
       << ",\"relative_residual\":" << json_number(r.relative_residual) << ",\"blocks\":[";
@@ -188,8 +193,9 @@ namespace multigrid
     s << "],\"residual_history\":[";
     for (std::size_t i = 0; i < r.residual_history.size(); ++i)
       s << (i ? "," : "") << json_number(r.residual_history[i]);
-    s << "],\"setup_seconds\":" << json_number(p.setup_seconds) << ",\"solve_seconds\":"
-      << json_number(r.solve_seconds) << ",\"operator_complexity\":" << json_number(p.operator_complexity)
+    s << "],\"setup_seconds\":" << json_number(p.setup_seconds)
+      << ",\"solve_seconds\":" << json_number(r.solve_seconds)
+      << ",\"operator_complexity\":" << json_number(p.operator_complexity)
       << ",\"coarse_solver\":" << json_string(p.coarse_solver) << ",\"levels\":[";
     for (std::size_t l = 0; l < p.levels.size(); ++l)
       {

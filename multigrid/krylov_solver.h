@@ -14,27 +14,27 @@ namespace multigrid
 {
   struct SolveOptions
   {
-    double tolerance      = 1e-8;  ///< relative residual ||b - A x|| / ||b|| (x0 = 0)
+    double tolerance      = 1e-8; ///< relative residual ||b - A x|| / ||b|| (x0 = 0)
     int    max_iterations = 500;
     int    restart        = 100;
     /// Apply the tolerance to every block's residual separately (||r_k|| / ||b_k||), as in the
     /// peer code's runs, in addition to the whole residual.
-    bool   per_block = false;
+    bool per_block = false;
   };
 
   struct SolveReport
   {
-    bool                converged  = false;
-    int                 iterations = 0;
-    std::vector<double> residual_history;      ///< relative (implicit) residual per iteration
-    double              relative_residual = 0; ///< true ||b - A x|| / ||b||
+    bool                     converged  = false;
+    int                      iterations = 0;
+    std::vector<double>      residual_history;      ///< relative (implicit) residual per iteration
+    double                   relative_residual = 0; ///< true ||b - A x|| / ||b||
     std::vector<std::string> block_names;
-    std::vector<double> block_relative_residuals;   ///< ||r_k|| / ||b_k|| (absolute if b_k = 0)
-    double              solve_seconds = 0;
-    PreconditionerInfo  preconditioner;
-    long long           global_size = 0;
-    int                 ranks       = 1;
-    SolveOptions        options;
+    std::vector<double>      block_relative_residuals; ///< ||r_k|| / ||b_k|| (absolute if b_k = 0)
+    double                   solve_seconds = 0;
+    PreconditionerInfo       preconditioner;
+    long long                global_size = 0;
+    int                      ranks       = 1;
+    SolveOptions             options;
   };
 
   /// Solves A x = b; x (on the system's full map) is overwritten. Never throws for

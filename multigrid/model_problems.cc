@@ -31,7 +31,7 @@ namespace multigrid
       const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
       const double C[3][3] = {{lambda + 2 * mu, lambda, 0}, {lambda, lambda + 2 * mu, 0}, {0, 0, mu}};
       const double xi_n[4] = {-1, 1, 1, -1}, eta_n[4] = {-1, -1, 1, 1};
-      const double g       = 1.0 / std::sqrt(3.0);
+      const double g = 1.0 / std::sqrt(3.0);
       std::array<std::array<double, 8>, 8> K{};
       for (double xi : {-g, g})
         for (double eta : {-g, g})
@@ -77,11 +77,11 @@ namespace multigrid
     const GO   n_dual_nodes   = slave.nx + 1;
 
     // Ownership: contiguous chunks of primal nodes; a multiplier node lives with its slave node.
-    const int rank = comm->getRank(), size = comm->getSize();
-    const GO  lo = n_primal_nodes * rank / size, hi = n_primal_nodes * (rank + 1) / size;
+    const int                    rank = comm->getRank(), size = comm->getSize();
+    const GO                     lo = n_primal_nodes * rank / size, hi = n_primal_nodes * (rank + 1) / size;
     std::vector<std::vector<GO>> owned(2);
     std::vector<double>          coordinates;
-    auto coordinate_of = [&](GO node) {
+    auto                         coordinate_of = [&](GO node) {
       const Grid& g = node < master.n_nodes() ? master : slave;
       const GO    l = node - g.first_node;
       return g.x(static_cast<int>(l % (g.nx + 1)), static_cast<int>(l / (g.nx + 1)));
@@ -113,12 +113,13 @@ namespace multigrid
     // Dirichlet data: body 1 clamped at y = 0; the top face of body 2 pushed by a prescribed
     // displacement (0.01, -0.02) (the two-block benchmark's loading), so both bodies are supported
     // and the primal block is nonsingular, as in a quasi-static contact step.
-    const double pushed[2] = {0.01, -0.02};
-    auto is_clamped = [&](GO dof) {
+    const double pushed[2]  = {0.01, -0.02};
+    auto         is_clamped = [&](GO dof) {
       const GO node = dof / 2;
-      return (node < master.nx + 1) || (node >= slave.node(0, slave.ny) && node < slave.n_nodes() + slave.first_node);
+      return (node < master.nx + 1) ||
+             (node >= slave.node(0, slave.ny) && node < slave.n_nodes() + slave.first_node);
     };
-    auto prescribed = [&](GO dof) { return dof / 2 < master.nx + 1 ? 0.0 : pushed[dof % 2]; };
+    auto                 prescribed = [&](GO dof) { return dof / 2 < master.nx + 1 ? 0.0 : pushed[dof % 2]; };
     std::map<GO, double> lifted; // rhs contributions -K_rc g_c of the prescribed values
 
     Rows rows;
@@ -134,7 +135,8 @@ namespace multigrid
         for (int j = 0; j < g->ny; ++j)
           for (int i = 0; i < g->nx; ++i)
             {
-              const GO nodes[4] = {g->node(i, j), g->node(i + 1, j), g->node(i + 1, j + 1), g->node(i, j + 1)};
+              const GO nodes[4] = {g->node(i, j), g->node(i + 1, j), g->node(i + 1, j + 1),
+                                   g->node(i, j + 1)};
               for (int a = 0; a < 8; ++a)
                 for (int b = 0; b < 8; ++b)
                   {
@@ -171,28 +173,28 @@ namespace multigrid
         for (std::size_t s = 0; s + 1 < cuts.size(); ++s)
           for (double q : {-g, g})
             {
-              const double x  = 0.5 * (cuts[s] + cuts[s + 1]) + 0.5 * q * (cuts[s + 1] - cuts[s]);
-              const double w  = 0.5 * (cuts[s + 1] - cuts[s]);
-              const double t  = (x - xa) / (xb - xa);
+              const double x      = 0.5 * (cuts[s] + cuts[s + 1]) + 0.5 * q * (cuts[s + 1] - cuts[s]);
+              const double w      = 0.5 * (cuts[s + 1] - cuts[s]);
+              const double t      = (x - xa) / (xb - xa);
               const double Ns[2]  = {1 - t, t};
               const double Phi[2] = {o.dual_multipliers ? 2 * Ns[0] - Ns[1] : Ns[0],
                                      o.dual_multipliers ? 2 * Ns[1] - Ns[0] : Ns[1]};
-              const int    l      = std::min(static_cast<int>(x * master.nx), master.nx - 1);
-              const double tm     = x * master.nx - l;
-              const double Nm[2]  = {1 - tm, tm};
+              const int    l     = std::min(static_cast<int>(x * master.nx), master.nx - 1);
+              const double tm    = x * master.nx - l;
+              const double Nm[2] = {1 - tm, tm};
               for (int a = 0; a < 2; ++a)
                 {
                   const GO lambda = n_primal + 2 * (e + a);
                   for (int b = 0; b < 2; ++b)
                     {
-                      const GO   us = 2 * slave.node(e + b, 0), um = 2 * master.node(l + b, master.ny);
+                      const GO     us = 2 * slave.node(e + b, 0), um = 2 * master.node(l + b, master.ny);
                       const double Dv = w * Phi[a] * Ns[b], Mv = w * Phi[a] * Nm[b];
                       for (int d = 0; d < 2; ++d)
                         {
-                          add(lambda + d, us + d, Dv);       // B = [-M  D]
-                          add(us + d, lambda + d, Dv);       // D^T
+                          add(lambda + d, us + d, Dv); // B = [-M  D]
+                          add(us + d, lambda + d, Dv); // D^T
                           add(lambda + d, um + d, -Mv);
-                          add(um + d, lambda + d, -Mv);      // -M^T
+                          add(um + d, lambda + d, -Mv); // -M^T
                         }
                     }
                 }
@@ -202,9 +204,9 @@ namespace multigrid
     // Assemble into Tpetra in the block distribution.
     std::vector<GO> all(owned[0]);
     all.insert(all.end(), owned[1].begin(), owned[1].end());
-    const GO n_total = n_primal + 2 * n_dual_nodes;
-    RCP<const Map> row_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_total,
-                                                                   Teuchos::ArrayView<const GO>(all), 0, comm);
+    const GO       n_total = n_primal + 2 * n_dual_nodes;
+    RCP<const Map> row_map = Xpetra::MapFactory<LO, GO, NO>::Build(
+        Xpetra::UseTpetra, n_total, Teuchos::ArrayView<const GO>(all), 0, comm);
     std::size_t max_row = 1;
     for (const auto& [r, entries] : rows)
       max_row = std::max(max_row, entries.size());
@@ -234,14 +236,30 @@ namespace multigrid
     }
 
     std::vector<BlockInfo> blocks(2);
-    blocks[0].name          = "displacement";
-    blocks[0].dofs_per_node = 2;
-    blocks[0].global_size   = n_primal;
-    blocks[1].name          = "lagrange multiplier";
-    blocks[1].dofs_per_node = 2;
-    blocks[1].global_size   = 2 * n_dual_nodes;
-    BlockSystem system = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
+    blocks[0].name            = "displacement";
+    blocks[0].dofs_per_node   = 2;
+    blocks[0].global_size     = n_primal;
+    blocks[1].name            = "lagrange multiplier";
+    blocks[1].dofs_per_node   = 2;
+    blocks[1].global_size     = 2 * n_dual_nodes;
+    BlockSystem system        = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
     system.block(0).nullspace = rigid_body_modes(system.block(0).map, 2, coordinates);
+    {
+      // Nodal coordinates of the displacement block (x, y per node), e.g. for aggregate output.
+      std::vector<GO> nodes;
+      for (GO n = lo; n < hi; ++n)
+        nodes.push_back(n);
+      auto node_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_primal_nodes,
+                                                            Teuchos::ArrayView<const GO>(nodes), 0, comm);
+      auto xy       = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(node_map, 2);
+      for (int d = 0; d < 2; ++d)
+        {
+          auto data = xy->getDataNonConst(d);
+          for (std::size_t i = 0; i < nodes.size(); ++i)
+            data[i] = coordinates[2 * i + d];
+        }
+      system.block(0).coordinates = xy;
+    }
 
     InterfaceInfo info;
     info.dual_to_primal_node = dual_to_primal;
@@ -254,11 +272,18 @@ namespace multigrid
     for (GO dof : owned[0])
       if (dof >= 2 * slave.first_node)
         slave_body.push_back(dof);
-    const auto invalid = Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid();
+    const auto invalid         = Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid();
     info.primal_interface_dofs = Xpetra::MapFactory<LO, GO, NO>::Build(
-      Xpetra::UseTpetra, invalid, Teuchos::ArrayView<const GO>(interface_dofs), 0, comm);
+        Xpetra::UseTpetra, invalid, Teuchos::ArrayView<const GO>(interface_dofs), 0, comm);
     info.segregation_dofs = Xpetra::MapFactory<LO, GO, NO>::Build(
-      Xpetra::UseTpetra, invalid, Teuchos::ArrayView<const GO>(slave_body), 0, comm);
+        Xpetra::UseTpetra, invalid, Teuchos::ArrayView<const GO>(slave_body), 0, comm);
+    std::vector<GO> master_body;
+    for (GO dof : owned[0])
+      if (dof < 2 * slave.first_node)
+        master_body.push_back(dof);
+    info.slave_dofs  = info.segregation_dofs;
+    info.master_dofs = Xpetra::MapFactory<LO, GO, NO>::Build(
+        Xpetra::UseTpetra, invalid, Teuchos::ArrayView<const GO>(master_body), 0, comm);
     system.set_interface(std::move(info));
     system.validate("tied-blocks-2d");
     return system;

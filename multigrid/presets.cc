@@ -50,8 +50,9 @@ namespace multigrid
       p.name       = name;
       p.parameters = list;
       p.parameters.remove("name", false);
-      p.kind       = list.isParameter("kind") ? list.get<std::string>("kind") : std::string("muelu");
-      static const std::vector<std::string> kinds = {"amg", "saddle-point-amg", "cheapsimple", "direct", "muelu"};
+      p.kind = list.isParameter("kind") ? list.get<std::string>("kind") : std::string("muelu");
+      static const std::vector<std::string> kinds = {"amg", "saddle-point-amg", "cheapsimple", "direct",
+                                                     "muelu"};
       if (std::find(kinds.begin(), kinds.end(), p.kind) == kinds.end())
         throw InputError(file + ": parameter 'kind' is '" + p.kind +
                          "', expected amg, saddle-point-amg, cheapsimple, direct or muelu");
@@ -90,7 +91,7 @@ namespace multigrid
           known += (known.empty() ? "" : ", ") + n;
         throw InputError("--preset: unknown preset '" + name + "' (known: " + known + ")");
       }
-    const auto list = read_xml(file);
+    const auto        list   = read_xml(file);
     const std::string stored = list.isParameter("name") ? list.get<std::string>("name") : std::string();
     if (stored != name)
       throw InputError(file + ": parameter 'name' is '" + stored + "', expected '" + name + "'");
@@ -99,8 +100,9 @@ namespace multigrid
 
   Preset load_preset_file(const std::string& file)
   {
-    const auto list = read_xml(file);
-    const std::string name = list.isParameter("name") ? list.get<std::string>("name") : fs::path(file).filename().string();
+    const auto        list = read_xml(file);
+    const std::string name =
+        list.isParameter("name") ? list.get<std::string>("name") : fs::path(file).filename().string();
     return from_list(name, list, file);
   }
 
@@ -111,14 +113,15 @@ namespace multigrid
         const auto eq = o.find('=');
         if (eq == std::string::npos || eq == 0)
           throw InputError("--set '" + o + "': expected PATH=VALUE");
-        const std::string path = o.substr(0, eq), value = o.substr(eq + 1);
+        const std::string       path = o.substr(0, eq), value = o.substr(eq + 1);
         Teuchos::ParameterList* list = &preset.parameters;
         std::string             rest = path;
         for (auto slash = rest.find('/'); slash != std::string::npos; slash = rest.find('/'))
           {
             const std::string sub = rest.substr(0, slash);
             if (!list->isSublist(sub))
-              throw InputError("--set '" + o + "': preset '" + preset.name + "' has no sublist '" + sub + "'");
+              throw InputError("--set '" + o + "': preset '" + preset.name + "' has no sublist '" + sub +
+                               "'");
             list = &list->sublist(sub);
             rest = rest.substr(slash + 1);
           }
@@ -137,11 +140,13 @@ namespace multigrid
                 list->set(rest, value == "true");
               }
             else
-              throw InputError("--set '" + o + "': parameter '" + rest + "' cannot be set from the command line");
+              throw InputError("--set '" + o + "': parameter '" + rest +
+                               "' cannot be set from the command line");
           }
         catch (const std::invalid_argument&)
           {
-            throw InputError("--set '" + o + "': value '" + value + "' does not fit the type of '" + rest + "'");
+            throw InputError("--set '" + o + "': value '" + value + "' does not fit the type of '" + rest +
+                             "'");
           }
         catch (const std::out_of_range&)
           {
@@ -152,8 +157,8 @@ namespace multigrid
 
   std::string expand_template(const Preset& preset, int primal_dpn, int dual_dpn)
   {
-    const auto& p    = preset.parameters;
-    const auto  file = (fs::path(preset_directory()) / p.get<std::string>("template")).string();
+    const auto&   p    = preset.parameters;
+    const auto    file = (fs::path(preset_directory()) / p.get<std::string>("template")).string();
     std::ifstream in(file);
     if (!in)
       throw InputError(file + ": template of preset '" + preset.name + "' not found");

@@ -54,8 +54,8 @@ namespace multigrid
       void Build(Level& level) const override
       {
         MueLu::FactoryMonitor monitor(*this, "Segregated matrix (filtered A)", level);
-        RCP<Matrix>    A = Get<RCP<Matrix>>(level, "A");
-        RCP<const Map> set;
+        RCP<Matrix>           A = Get<RCP<Matrix>>(level, "A");
+        RCP<const Map>        set;
         if (level.GetLevelID() == 0)
           set = level.Get<RCP<const Map>>("segregation dofs", NoFactory::get());
         else
@@ -65,7 +65,6 @@ namespace multigrid
         Set(level, "A", filtered);
       }
     };
-
 
     /// Interface aggregation for the multipliers (seed 000, idea 1): every multiplier node joins the
     /// aggregate of "its" slave node, so coarse multipliers stay in one-to-one correspondence with
@@ -82,10 +81,13 @@ namespace multigrid
       RCP<const Teuchos::ParameterList> GetValidParameterList() const override
       {
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
-        list->set<RCP<const FactoryBase>>("A", Teuchos::null, "Generating factory of the dual diagonal block");
-        list->set<RCP<const FactoryBase>>("Aggregates", Teuchos::null, "Generating factory of the primal aggregates");
-        list->set<RCP<const FactoryBase>>("DualNodeID2PrimalNodeID", Teuchos::null,
-                                          "Generating factory of the dual -> primal node mapping (coarse levels)");
+        list->set<RCP<const FactoryBase>>("A", Teuchos::null,
+                                          "Generating factory of the dual diagonal block");
+        list->set<RCP<const FactoryBase>>("Aggregates", Teuchos::null,
+                                          "Generating factory of the primal aggregates");
+        list->set<RCP<const FactoryBase>>(
+            "DualNodeID2PrimalNodeID", Teuchos::null,
+            "Generating factory of the dual -> primal node mapping (coarse levels)");
         list->set<int>("number of DOFs per dual node", 1, "Multiplier DOFs per multiplier node");
         return list;
       }
@@ -103,47 +105,49 @@ namespace multigrid
       void Build(Level& level) const override
       {
         MueLu::FactoryMonitor monitor(*this, "Interface aggregation (multipliers)", level);
-        const int   dpn    = GetParameterList().get<int>("number of DOFs per dual node");
-        RCP<Matrix> A      = Get<RCP<Matrix>>(level, "A");
-        auto        primal = Get<RCP<MueLu::Aggregates<LO, GO, NO>>>(level, "Aggregates");
-        RCP<DualToPrimal> dual_to_primal =
-          level.GetLevelID() == 0 ? level.Get<RCP<DualToPrimal>>("DualNodeID2PrimalNodeID", NoFactory::get())
-                                  : Get<RCP<DualToPrimal>>(level, "DualNodeID2PrimalNodeID");
+        const int             dpn    = GetParameterList().get<int>("number of DOFs per dual node");
+        RCP<Matrix>           A      = Get<RCP<Matrix>>(level, "A");
+        auto                  primal = Get<RCP<MueLu::Aggregates<LO, GO, NO>>>(level, "Aggregates");
+        RCP<DualToPrimal>     dual_to_primal =
+            level.GetLevelID() == 0
+                    ? level.Get<RCP<DualToPrimal>>("DualNodeID2PrimalNodeID", NoFactory::get())
+                    : Get<RCP<DualToPrimal>>(level, "DualNodeID2PrimalNodeID");
 
         const RCP<const Map> dofs    = A->getRangeMap();
         const auto           comm    = dofs->getComm();
         const LO             n_local = static_cast<LO>(dofs->getNodeNumElements()) / dpn;
-        TEUCHOS_TEST_FOR_EXCEPTION(static_cast<LO>(dual_to_primal->size()) != n_local, MueLu::Exceptions::RuntimeError,
+        TEUCHOS_TEST_FOR_EXCEPTION(static_cast<LO>(dual_to_primal->size()) != n_local,
+                                   MueLu::Exceptions::RuntimeError,
                                    "NodeInterfaceAggregationFactory: dual-to-primal mapping has "
-                                     << dual_to_primal->size() << " entries, expected " << n_local << " on level "
-                                     << level.GetLevelID());
+                                       << dual_to_primal->size() << " entries, expected " << n_local
+                                       << " on level " << level.GetLevelID());
         const GO offset = dofs->getGlobalNumElements() > 0 ? dofs->getMinAllGlobalIndex() : 0;
 
         std::vector<GO> nodes(n_local);
         for (LO i = 0; i < n_local; ++i)
           nodes[i] = (dofs->getGlobalElement(i * dpn) - offset) / dpn;
         RCP<const Map> node_map = Xpetra::MapFactory<LO, GO, NO>::Build(
-          dofs->lib(), dofs->getGlobalNumElements() / dpn, Teuchos::ArrayView<const GO>(nodes), 0, comm);
+            dofs->lib(), dofs->getGlobalNumElements() / dpn, Teuchos::ArrayView<const GO>(nodes), 0, comm);
 
         auto aggregates = Teuchos::rcp(new MueLu::Aggregates<LO, GO, NO>(node_map));
         aggregates->setObjectLabel("interface aggregation");
-        auto vertex_to_aggregate = aggregates->GetVertex2AggId()->getDataNonConst(0);
-        auto winner              = aggregates->GetProcWinner()->getDataNonConst(0);
+        auto       vertex_to_aggregate        = aggregates->GetVertex2AggId()->getDataNonConst(0);
+        auto       winner                     = aggregates->GetProcWinner()->getDataNonConst(0);
         const auto primal_vertex_to_aggregate = primal->GetVertex2AggId()->getData(0);
 
-        auto coarse_dual_to_primal = Teuchos::rcp(new DualToPrimal());
+        auto             coarse_dual_to_primal = Teuchos::rcp(new DualToPrimal());
         std::map<LO, LO> primal_to_dual_aggregate;
         for (LO i = 0; i < n_local; ++i)
           {
             const LO primal_aggregate = primal_vertex_to_aggregate[dual_to_primal->at(i)];
             TEUCHOS_TEST_FOR_EXCEPTION(primal_aggregate < 0, MueLu::Exceptions::RuntimeError,
-                                       "NodeInterfaceAggregationFactory: slave node " << dual_to_primal->at(i)
-                                                                                      << " is in no aggregate");
+                                       "NodeInterfaceAggregationFactory: slave node "
+                                           << dual_to_primal->at(i) << " is in no aggregate");
             auto it = primal_to_dual_aggregate.find(primal_aggregate);
             if (it == primal_to_dual_aggregate.end())
               {
-                const LO k = static_cast<LO>(primal_to_dual_aggregate.size());
-                it         = primal_to_dual_aggregate.emplace(primal_aggregate, k).first;
+                const LO k                  = static_cast<LO>(primal_to_dual_aggregate.size());
+                it                          = primal_to_dual_aggregate.emplace(primal_aggregate, k).first;
                 (*coarse_dual_to_primal)[k] = primal_aggregate; // coarse dual node -> coarse primal node
               }
             vertex_to_aggregate[i] = it->second;
@@ -158,7 +162,7 @@ namespace multigrid
           for (int k = 0; k < dpn; ++k)
             translation->push_back(i);
         auto amalgamation = Teuchos::rcp(new MueLu::AmalgamationInfo<LO, GO, NO>(
-          translation, translation, node_map, node_map, dofs, dpn, offset, -1, 0, dpn));
+            translation, translation, node_map, node_map, dofs, dpn, offset, -1, 0, dpn));
 
         Set(level, "Aggregates", aggregates);
         Set(level, "UnAmalgamationInfo", amalgamation);
@@ -173,27 +177,29 @@ namespace multigrid
       RCP<const Teuchos::ParameterList> GetValidParameterList() const override
       {
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
-        list->set<RCP<const MueLu::FactoryBase>>("A", Teuchos::null, "Generating factory of the coarse matrix");
+        list->set<RCP<const MueLu::FactoryBase>>("A", Teuchos::null,
+                                                 "Generating factory of the coarse matrix");
         return list;
       }
       void DeclareInput(MueLu::Level& level) const override { this->Input(level, "A"); }
 
       void Setup(MueLu::Level& level) override
       {
-        MueLu::FactoryMonitor monitor(*this, "SuperLU coarse solver", level);
-        RCP<::multigrid::Matrix> A = this->template Get<RCP<::multigrid::Matrix>>(level, "A");
-        auto bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A);
+        MueLu::FactoryMonitor    monitor(*this, "SuperLU coarse solver", level);
+        RCP<::multigrid::Matrix> A  = this->template Get<RCP<::multigrid::Matrix>>(level, "A");
+        auto                     bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A);
         // A coarse DOF that P does not reach (an aggregate with fewer DOFs than nullspace vectors)
         // has an empty row and column; it decouples, so a unit diagonal makes the solve defined.
         solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge(), true);
         this->IsSetup(true);
       }
 
-      void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, bool /*InitialGuessIsZero*/) const override
+      void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
+                 bool /*InitialGuessIsZero*/) const override
       {
         using BlockedMultiVector = Xpetra::BlockedMultiVector<double, int, long long, ::multigrid::NO>;
-        auto bX = dynamic_cast<BlockedMultiVector*>(&X);
-        auto bB = dynamic_cast<const BlockedMultiVector*>(&B);
+        auto                                bX = dynamic_cast<BlockedMultiVector*>(&X);
+        auto                                bB = dynamic_cast<const BlockedMultiVector*>(&B);
         RCP<const ::multigrid::MultiVector> b;
         if (bB)
           b = bB->Merge();
@@ -231,43 +237,44 @@ namespace multigrid
   {
     const Map* set = &set_map;
     // Membership flag of every row, then of every column (imported: the column owner decides).
-        auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
-        {
-          auto data = in_set_rows->getDataNonConst(0);
-          for (std::size_t i = 0; i < data.size(); ++i)
-            data[i] = set->isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
-        }
-        auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
-        auto importer    = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
-        in_set_cols->doImport(*in_set_rows, *importer, Xpetra::INSERT);
-        const auto row_flag = in_set_rows->getData(0);
-        const auto col_flag = in_set_cols->getData(0);
+    auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
+    {
+      auto data = in_set_rows->getDataNonConst(0);
+      for (std::size_t i = 0; i < data.size(); ++i)
+        data[i] = set->isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
+    }
+    auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
+    auto importer    = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
+    in_set_cols->doImport(*in_set_rows, *importer, Xpetra::INSERT);
+    const auto row_flag = in_set_rows->getData(0);
+    const auto col_flag = in_set_cols->getData(0);
 
-        RCP<Matrix> filtered = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getColMap(),
-                                                                            A.getNodeMaxNumRowEntries());
-        for (std::size_t i = 0; i < A.getNodeNumRows(); ++i)
-          {
-            Teuchos::ArrayView<const LO> cols;
-            Teuchos::ArrayView<const SC> vals;
-            A.getLocalRowView(i, cols, vals);
-            std::vector<LO> keep_cols;
-            std::vector<SC> keep_vals;
-            for (LO k = 0; k < cols.size(); ++k)
-              if (row_flag[i] == col_flag[cols[k]])
-                {
-                  keep_cols.push_back(cols[k]);
-                  keep_vals.push_back(vals[k]);
-                }
-            filtered->insertLocalValues(i, keep_cols, keep_vals);
-          }
-        filtered->fillComplete(A.getDomainMap(), A.getRangeMap());
-        filtered->SetFixedBlockSize(A.GetFixedBlockSize());
-            return filtered;
+    RCP<Matrix> filtered = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getColMap(),
+                                                                        A.getNodeMaxNumRowEntries());
+    for (std::size_t i = 0; i < A.getNodeNumRows(); ++i)
+      {
+        Teuchos::ArrayView<const LO> cols;
+        Teuchos::ArrayView<const SC> vals;
+        A.getLocalRowView(i, cols, vals);
+        std::vector<LO> keep_cols;
+        std::vector<SC> keep_vals;
+        for (LO k = 0; k < cols.size(); ++k)
+          if (row_flag[i] == col_flag[cols[k]])
+            {
+              keep_cols.push_back(cols[k]);
+              keep_vals.push_back(vals[k]);
+            }
+        filtered->insertLocalValues(i, keep_cols, keep_vals);
+      }
+    filtered->fillComplete(A.getDomainMap(), A.getRangeMap());
+    filtered->SetFixedBlockSize(A.GetFixedBlockSize());
+    return filtered;
   }
 
-  RCP<const MueLu::FactoryBase> ProjectFactoryFactory::BuildFactory(const Teuchos::ParameterEntry& param,
-                                                                   const ::multigrid::FactoryMap& factories,
-                                                                   const ::multigrid::FactoryManagerMap& managers) const
+  RCP<const MueLu::FactoryBase>
+  ProjectFactoryFactory::BuildFactory(const Teuchos::ParameterEntry&        param,
+                                      const ::multigrid::FactoryMap&        factories,
+                                      const ::multigrid::FactoryManagerMap& managers) const
   {
     std::string            name;
     Teuchos::ParameterList list;
@@ -284,8 +291,8 @@ namespace multigrid
     if (name == "NodeInterfaceAggregationFactory")
       return this->template Build2<NodeInterfaceAggregationFactory>(list, factories, managers);
     if (name == "SuperLUDirectSolver")
-      return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(Teuchos::rcp(new SuperLUSmoother()),
-                                                                     Teuchos::null));
+      return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
+          Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
     return Base::BuildFactory(param, factories, managers);
   }
 } // namespace multigrid

@@ -34,8 +34,8 @@ namespace multigrid
     using Base = MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>;
 
   public:
-    RCP<const MueLu::FactoryBase> BuildFactory(const Teuchos::ParameterEntry& param,
-                                               const ::multigrid::FactoryMap& factories,
+    RCP<const MueLu::FactoryBase> BuildFactory(const Teuchos::ParameterEntry&        param,
+                                               const ::multigrid::FactoryMap&        factories,
                                                const ::multigrid::FactoryManagerMap& managers) const override;
   };
 } // namespace multigrid

@@ -58,9 +58,9 @@ namespace multigrid
       get_perm_c(options.ColPerm, &A, perm_c.data());
       sp_preorder(&options, &A, perm_c.data(), etree.data(), &AC);
       const int panel_size = sp_ienv(1), relax = sp_ienv(2);
-      int       info       = 0;
-      dgstrf(&options, &AC, relax, panel_size, etree.data(), nullptr, 0, perm_c.data(), perm_r.data(),
-             &L, &U, &glu, &stat, &info);
+      int       info = 0;
+      dgstrf(&options, &AC, relax, panel_size, etree.data(), nullptr, 0, perm_c.data(), perm_r.data(), &L, &U,
+             &glu, &stat, &info);
       StatFree(&stat);
       factored = (info == 0);
       if (!factored && info <= n)
@@ -95,16 +95,16 @@ namespace multigrid
 
   SuperLUDirect::SuperLUDirect(const RCP<const Matrix>& A, bool unit_diagonal_on_empty_rows)
   {
-    const auto comm = A->getRowMap()->getComm();
+    const auto comm  = A->getRowMap()->getComm();
     distributed_map_ = A->getRangeMap();
     if (A->getGlobalNumRows() != A->getGlobalNumCols())
       throw InputError("SuperLU: matrix is " + std::to_string(A->getGlobalNumRows()) + " x " +
                        std::to_string(A->getGlobalNumCols()) + ", expected square");
 
     // All rows on rank 0, in the order of the range map's global ids.
-    const auto gids = distributed_map_->getNodeElementList();
-    std::vector<GO> mine(gids.begin(), gids.end());
-    int n_local = static_cast<int>(mine.size());
+    const auto       gids = distributed_map_->getNodeElementList();
+    std::vector<GO>  mine(gids.begin(), gids.end());
+    int              n_local = static_cast<int>(mine.size());
     std::vector<int> counts(comm->getSize());
     Teuchos::gatherAll(*comm, 1, &n_local, comm->getSize(), counts.data());
     std::vector<GO> all;
@@ -115,27 +115,28 @@ namespace multigrid
       // coarse-level or test sized, so a simple reduce of a zero-padded array is adequate.
       const long long n_global = static_cast<long long>(A->getGlobalNumRows());
       std::vector<GO> padded(n_global, 0), summed(n_global, 0);
-      long long start = 0;
+      long long       start = 0;
       for (int r = 0; r < comm->getRank(); ++r)
         start += counts[r];
       for (int i = 0; i < n_local; ++i)
         padded[start + i] = mine[i];
-      Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(n_global), padded.data(), summed.data());
+      Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(n_global), padded.data(),
+                         summed.data());
       if (comm->getRank() == 0)
         all = summed;
     }
     root_map_ = Xpetra::MapFactory<LO, GO, NO>::Build(distributed_map_->lib(), A->getGlobalNumRows(),
                                                       Teuchos::ArrayView<const GO>(all),
                                                       distributed_map_->getIndexBase(), comm);
-    auto importer = Xpetra::ImportFactory<LO, GO, NO>::Build(A->getRowMap(), root_map_);
-    RCP<Matrix> root = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A, *importer, root_map_, root_map_);
+    auto        importer = Xpetra::ImportFactory<LO, GO, NO>::Build(A->getRowMap(), root_map_);
+    RCP<Matrix> root     = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A, *importer, root_map_, root_map_);
 
     int info = 0;
     if (comm->getRank() == 0)
       {
-        factors_    = std::make_unique<Factors>();
-        Factors& f  = *factors_;
-        f.n         = static_cast<int>(root->getNodeNumRows());
+        factors_   = std::make_unique<Factors>();
+        Factors& f = *factors_;
+        f.n        = static_cast<int>(root->getNodeNumRows());
         f.pointers.assign(1, 0);
         const auto col_map = root->getColMap();
         for (int i = 0; i < f.n; ++i)
@@ -200,11 +201,13 @@ namespace multigrid
   }
 
   DirectSolverOperator::DirectSolverOperator(const RCP<const Matrix>& A)
-    : A_(A), solver_(std::make_unique<SuperLUDirect>(A))
-  {}
+      : A_(A)
+      , solver_(std::make_unique<SuperLUDirect>(A))
+  {
+  }
 
-  void DirectSolverOperator::apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode,
-                                   SC alpha, SC beta) const
+  void DirectSolverOperator::apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,
+                                   Teuchos::ETransp mode, SC alpha, SC beta) const
   {
     if (mode != Teuchos::NO_TRANS)
       throw std::logic_error("DirectSolverOperator: transposed apply is not supported");

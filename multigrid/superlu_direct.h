@@ -6,6 +6,9 @@
 // the right tool for coarse levels and for reference solutions on the sizes this project runs;
 // a SuperLU_DIST variant would be the next step for very large direct solves.
 //
+// Diagnostics: with SUPERLU_DUMP_SINGULAR=FILE in the environment, a matrix found singular is
+// written to FILE (Matrix Market) before the error is raised.
+//
 // It serves three roles: the `direct(superlu)` preset (DirectSolverOperator), the coarse-level
 // solver of MueLu hierarchies ("SuperLUDirectSolver" in preset XML), and reference solutions in tests.
 #pragma once
@@ -38,10 +41,10 @@ namespace multigrid
 
   private:
     struct Factors;
-    RCP<const ::multigrid::Map>           distributed_map_;
-    RCP<const ::multigrid::Map>           root_map_;
-    std::unique_ptr<Factors> factors_;   ///< only on rank 0
-    long long                factor_nnz_ = 0;
+    RCP<const ::multigrid::Map> distributed_map_;
+    RCP<const ::multigrid::Map> root_map_;
+    std::unique_ptr<Factors>    factors_; ///< only on rank 0
+    long long                   factor_nnz_ = 0;
   };
 
   /// direct(superlu) as an Xpetra operator: apply(B) = A^-1 B. Used as a "preconditioner" in the
@@ -52,10 +55,11 @@ namespace multigrid
     explicit DirectSolverOperator(const RCP<const Matrix>& A);
     RCP<const ::multigrid::Map> getDomainMap() const override { return A_->getDomainMap(); }
     RCP<const ::multigrid::Map> getRangeMap() const override { return A_->getRangeMap(); }
-    void apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS,
-               SC alpha = 1.0, SC beta = 0.0) const override;
-    void residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, ::multigrid::MultiVector& R) const override;
-    const SuperLUDirect& solver() const { return *solver_; }
+    void                        apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,
+                                      Teuchos::ETransp mode = Teuchos::NO_TRANS, SC alpha = 1.0, SC beta = 0.0) const override;
+    void                        residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
+                                         ::multigrid::MultiVector& R) const override;
+    const SuperLUDirect&        solver() const { return *solver_; }
 
   private:
     RCP<const Matrix>              A_;

@@ -36,8 +36,8 @@ cmake --build build -j "$jobs"
 case "$mode" in
   run)
     mkdir -p output
-    mpirun -np 2 build/apps/solve_block_system --builtin tied-blocks-2d:2 \
-      --preset "sa-amg(cheapsimple)" --json output/solve_report.json
+    mpirun -np 2 build/apps/solve_block_system --builtin tied-blocks-2d:3 \
+      --preset "emin(cheapsimple)" --json output/solve_report.json
     ;;
   test)
     cd build && ctest --output-on-failure -j "$jobs" -LE benchmark

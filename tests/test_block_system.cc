@@ -18,13 +18,17 @@ namespace fs = std::filesystem;
 
 namespace
 {
-  RCP<const Comm> comm() { return Tpetra::getDefaultComm(); }
+  RCP<const Comm> comm()
+  {
+    return Tpetra::getDefaultComm();
+  }
 
   /// A directory every rank agrees on (rank 0's name), removed at the end of the test.
   std::string scratch(const std::string& name)
   {
-    return (fs::temp_directory_path() / ("block_system_test_" + name + "_np" + std::to_string(comm()->getSize())))
-      .string();
+    return (fs::temp_directory_path() /
+            ("block_system_test_" + name + "_np" + std::to_string(comm()->getSize())))
+        .string();
   }
 
   double norm(const MultiVector& v)
@@ -56,8 +60,8 @@ namespace
 
 TEST(BlockSystemIO, ManifestRoundTripKeepsOperatorRhsNullspaceAndInterface)
 {
-  auto system = tied_blocks_2d(comm(), {});
-  const std::string dir = scratch("roundtrip");
+  auto              system = tied_blocks_2d(comm(), {});
+  const std::string dir    = scratch("roundtrip");
   write_block_system(system, dir);
   auto again = read_block_system(dir, comm());
 
@@ -69,9 +73,9 @@ TEST(BlockSystemIO, ManifestRoundTripKeepsOperatorRhsNullspaceAndInterface)
     }
   // Same operator: A x agrees for a random x (the distributions may differ).
   using MVF = Xpetra::MultiVectorFactory<SC, LO, GO, NO>;
-  auto x  = MVF::Build(system.full_map(), 1);
+  auto x    = MVF::Build(system.full_map(), 1);
   x->randomize();
-  auto x2 = MVF::Build(again.full_map(), 1);
+  auto x2       = MVF::Build(again.full_map(), 1);
   auto importer = Xpetra::ImportFactory<LO, GO, NO>::Build(system.full_map(), again.full_map());
   x2->doImport(*x, *importer, Xpetra::INSERT);
   auto y  = MVF::Build(system.full_map(), 1);
@@ -113,14 +117,17 @@ TEST(BlockSystemIO, BadInputGivesOneLineErrorsNamingTheFile)
     {
       fs::remove_all(dir);
       fs::create_directories(dir);
-      std::ofstream(dir + "/nan_matrix.mm") << "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n2 2 nan\n";
+      std::ofstream(dir + "/nan_matrix.mm")
+          << "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n2 2 nan\n";
       std::ofstream(dir + "/nan_nullspace1.mm") << "%%MatrixMarket matrix array real general\n1 1\n1.0\n";
       std::ofstream(dir + "/nan_interface_dof_map_MPI1.mm")
-        << "%%MatrixMarket matrix array integer general\n2 1\n0\n0\n";
-      std::ofstream(dir + "/rect_matrix.mm") << "%%MatrixMarket matrix coordinate real general\n3 2 1\n1 1 1.0\n";
-      std::ofstream(dir + "/rect_nullspace1.mm") << "%%MatrixMarket matrix array real general\n2 1\n1.0\n1.0\n";
+          << "%%MatrixMarket matrix array integer general\n2 1\n0\n0\n";
+      std::ofstream(dir + "/rect_matrix.mm")
+          << "%%MatrixMarket matrix coordinate real general\n3 2 1\n1 1 1.0\n";
+      std::ofstream(dir + "/rect_nullspace1.mm")
+          << "%%MatrixMarket matrix array real general\n2 1\n1.0\n1.0\n";
       std::ofstream(dir + "/rect_interface_dof_map_MPI1.mm")
-        << "%%MatrixMarket matrix array integer general\n2 1\n0\n0\n";
+          << "%%MatrixMarket matrix array integer general\n2 1\n0\n0\n";
     }
   comm()->barrier();
   ReadOptions one;
@@ -140,24 +147,24 @@ TEST(BlockSystemIO, BadInputGivesOneLineErrorsNamingTheFile)
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 
   {
-      // The manifest format checks block sizes against the matrix.
-      auto system = tied_blocks_2d(comm(), {});
-      const std::string good = scratch("sizes");
-      write_block_system(system, good);
-      if (comm()->getRank() == 0)
-        {
-          std::ifstream in(good + "/manifest.txt");
-          std::string   text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-          text.replace(text.find("block displacement 956"), 22, "block displacement 958");
-          std::ofstream(good + "/manifest.txt") << text;
-        }
-      comm()->barrier();
-      const auto sizes = error_of([&] { read_block_system(good, comm()); });
-      EXPECT_NE(sizes.find("blocks add up to"), std::string::npos) << sizes;
-      comm()->barrier();
-      if (comm()->getRank() == 0)
-        fs::remove_all(good);
-    }
+    // The manifest format checks block sizes against the matrix.
+    auto              system = tied_blocks_2d(comm(), {});
+    const std::string good   = scratch("sizes");
+    write_block_system(system, good);
+    if (comm()->getRank() == 0)
+      {
+        std::ifstream in(good + "/manifest.txt");
+        std::string   text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        text.replace(text.find("block displacement 956"), 22, "block displacement 958");
+        std::ofstream(good + "/manifest.txt") << text;
+      }
+    comm()->barrier();
+    const auto sizes = error_of([&] { read_block_system(good, comm()); });
+    EXPECT_NE(sizes.find("blocks add up to"), std::string::npos) << sizes;
+    comm()->barrier();
+    if (comm()->getRank() == 0)
+      fs::remove_all(good);
+  }
   comm()->barrier();
   if (comm()->getRank() == 0)
     fs::remove_all(dir);

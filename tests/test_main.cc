@@ -9,6 +9,6 @@ int main(int argc, char** argv)
   // Only rank 0 reports, so that an MPI test prints one summary.
   if (Tpetra::getDefaultComm()->getRank() != 0)
     delete ::testing::UnitTest::GetInstance()->listeners().Release(
-      ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
+        ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
   return RUN_ALL_TESTS();
 }

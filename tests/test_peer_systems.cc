@@ -27,17 +27,23 @@ namespace fs = std::filesystem;
 
 namespace
 {
-  RCP<const Comm> comm() { return Tpetra::getDefaultComm(); }
-  std::string     peer(const std::string& name) { return std::string(PEER_DATA_DIR) + "/" + name; }
+  RCP<const Comm> comm()
+  {
+    return Tpetra::getDefaultComm();
+  }
+  std::string peer(const std::string& name)
+  {
+    return std::string(PEER_DATA_DIR) + "/" + name;
+  }
 
   /// Global graph of a Matrix Market file (small files only), 0-based.
   std::vector<std::set<long long>> graph_of(const std::string& file)
   {
-    std::ifstream in(file);
-    std::string   line;
-    long long     n = 0, m = 0, nnz = 0;
+    std::ifstream                    in(file);
+    std::string                      line;
+    long long                        n = 0, m = 0, nnz = 0;
     std::vector<std::set<long long>> g;
-    bool header = false;
+    bool                             header = false;
     while (std::getline(in, line))
       {
         if (line.empty() || line[0] == '%')
@@ -79,13 +85,13 @@ TEST(PeerSystems, Meshtying2DNeedsNoMoreIterationsThanThePeerCode)
 {
   if (!fs::is_directory(PEER_DATA_DIR))
     GTEST_SKIP() << "shared/peer-data not found at " << PEER_DATA_DIR << ": peer validation not run";
-  auto system = read_block_system(peer("meshtying2D_small"), comm());
-  auto preset = load_preset_file(std::string(TEST_DATA_DIR) + "/peer_meshtying2D.xml");
+  auto                system = read_block_system(peer("meshtying2D_small"), comm());
+  auto                preset = load_preset_file(std::string(TEST_DATA_DIR) + "/peer_meshtying2D.xml");
   BlockPreconditioner M(system, preset);
-  SolveOptions options;
+  SolveOptions        options;
   options.tolerance = 1e-4;
   options.per_block = true;
-  auto x = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(system.full_map(), 1);
+  auto       x      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(system.full_map(), 1);
   const auto report = solve(system, M, *x, options);
   if (comm()->getRank() == 0)
     std::cout << "meshtying2D_small on " << comm()->getSize() << " rank(s): " << report.iterations
@@ -108,19 +114,19 @@ TEST(PeerSystems, SegregatedMatrixEqualsThePeersFilteredMatrix)
   ASSERT_GT(body.size(), 6u);
   ASSERT_LT(body.size(), 54u);
 
-  auto map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, 54, 0, comm());
-  auto A   = IO::Read(peer("segregatedAgg_matrix.mm"), map);
-  auto F   = IO::Read(peer("segregatedAgg_filtered_matrix.mm"), map);
+  auto            map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, 54, 0, comm());
+  auto            A   = IO::Read(peer("segregatedAgg_matrix.mm"), map);
+  auto            F   = IO::Read(peer("segregatedAgg_filtered_matrix.mm"), map);
   std::vector<GO> mine;
   for (GO g : map->getNodeElementList())
     if (body.count(g))
       mine.push_back(g);
   auto set = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, body.size(),
                                                    Teuchos::ArrayView<const GO>(mine), 0, comm());
-  auto S = segregated_matrix(*A, *set);
+  auto S   = segregated_matrix(*A, *set);
   EXPECT_EQ(S->getGlobalNumEntries(), F->getGlobalNumEntries());
   RCP<Matrix> D;
-  auto out = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
+  auto        out = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
   Xpetra::MatrixMatrix<SC, LO, GO, NO>::TwoMatrixAdd(*S, false, 1.0, *F, false, -1.0, D, *out);
   D->fillComplete();
   EXPECT_LT(D->getFrobeniusNorm(), 1e-14 * F->getFrobeniusNorm());
@@ -130,23 +136,23 @@ TEST(PeerSystems, NoPrimalAggregateContainsNodesOfBothBodies)
 {
   if (!fs::is_directory(PEER_DATA_DIR))
     GTEST_SKIP() << "shared/peer-data not found at " << PEER_DATA_DIR << ": peer validation not run";
-  auto       system = read_block_system(peer("segregatedAgg"), comm());
-  const auto body   = component(graph_of(peer("segregatedAgg_filtered_matrix.mm")), 42);
-  InterfaceInfo info = system.interface();
+  auto            system = read_block_system(peer("segregatedAgg"), comm());
+  const auto      body   = component(graph_of(peer("segregatedAgg_filtered_matrix.mm")), 42);
+  InterfaceInfo   info   = system.interface();
   std::vector<GO> mine;
   for (GO g : system.block(0).map->getNodeElementList())
     if (body.count(g))
       mine.push_back(g);
   info.segregation_dofs = Xpetra::MapFactory<LO, GO, NO>::Build(
-    Xpetra::UseTpetra, body.size(), Teuchos::ArrayView<const GO>(mine), 0, comm());
+      Xpetra::UseTpetra, body.size(), Teuchos::ArrayView<const GO>(mine), 0, comm());
   system.set_interface(info);
 
-  auto preset = load_preset_file(std::string(TEST_DATA_DIR) + "/peer_meshtying2D.xml");
+  auto                preset = load_preset_file(std::string(TEST_DATA_DIR) + "/peer_meshtying2D.xml");
   BlockPreconditioner M(system, preset);
-  auto P = M.prolongator_block(0, 0);
+  auto                P = M.prolongator_block(0, 0);
 
   // Every coarse DOF (column of P) takes fine rows from one body only.
-  const GO n_coarse = P->getDomainMap()->getMaxAllGlobalIndex() + 1;
+  const GO         n_coarse = P->getDomainMap()->getMaxAllGlobalIndex() + 1;
   std::vector<int> local(n_coarse, 0), global(n_coarse, 0);
   for (std::size_t i = 0; i < P->getNodeNumRows(); ++i)
     {

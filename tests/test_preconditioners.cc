@@ -8,10 +8,13 @@
 #include <Xpetra_MultiVectorFactory.hpp>
 #include <gtest/gtest.h>
 
+#include "test_helpers.h"
+
 using namespace multigrid;
 
 class PresetLinearity : public ::testing::TestWithParam<std::string>
-{};
+{
+};
 
 TEST_P(PresetLinearity, IsLinear)
 {
@@ -40,13 +43,4 @@ TEST_P(PresetLinearity, IsLinear)
 }
 
 INSTANTIATE_TEST_SUITE_P(AllContactPresets, PresetLinearity,
-                         ::testing::Values("pa-amg(cheapsimple)", "sa-amg(cheapsimple)", "emin(cheapsimple)",
-                                           "sa-amg(braess-sarazin)", "sa-amg(uzawa)",
-                                           "fully-coupled-sa-amg(simple)", "cheapsimple(pa-amg)",
-                                           "cheapsimple(sa-amg)", "cheapsimplec(sgs)", "direct(superlu)"),
-                         [](const auto& info) {
-                           std::string n;
-                           for (char c : info.param)
-                             n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-                           return n;
-                         });
+                         ::testing::ValuesIn(test_helpers::contact_presets), test_helpers::PresetName());

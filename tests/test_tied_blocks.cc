@@ -15,19 +15,27 @@
 #include <Xpetra_MultiVectorFactory.hpp>
 #include <gtest/gtest.h>
 
+#include "test_helpers.h"
+
 #include <iomanip>
 
 using namespace multigrid;
 
 namespace
 {
-  RCP<const Comm> comm() { return Tpetra::getDefaultComm(); }
+  RCP<const Comm> comm()
+  {
+    return Tpetra::getDefaultComm();
+  }
 
   Preset preset_for_2d_family(const std::string& name)
   {
     Preset p = load_preset(name);
     if (p.kind == "saddle-point-amg")
       apply_overrides(p, {"template parameters/MIN_AGG_SIZE=6", "template parameters/COARSE_MAX_SIZE=100"});
+    if (p.kind == "cheapsimple" &&
+        p.parameters.sublist("primal solver").isParameter("aggregation: min agg size"))
+      apply_overrides(p, {"primal solver/aggregation: min agg size=6", "primal solver/coarse: max size=100"});
     return p;
   }
 
@@ -51,7 +59,8 @@ namespace
 } // namespace
 
 class TiedBlocksFamily : public ::testing::TestWithParam<std::string>
-{};
+{
+};
 
 TEST_P(TiedBlocksFamily, ConvergesAtThreeSizes)
 {
@@ -59,13 +68,13 @@ TEST_P(TiedBlocksFamily, ConvergesAtThreeSizes)
   for (int level = 1; level <= 3; ++level)
     {
       TiedBlocksOptions o;
-      o.level          = level;
+      o.level           = level;
       const auto system = tied_blocks_2d(comm(), o);
       const auto r      = run(system, GetParam(), 1e-8);
-      table << "  " << std::setw(8) << system.global_size() << " DOFs: " << std::setw(4) << r.report.iterations
-            << " iterations, " << std::fixed << std::setprecision(2) << r.report.preconditioner.setup_seconds
-            << " s setup, " << r.report.solve_seconds << " s solve, " << r.report.preconditioner.levels.size()
-            << " levels\n";
+      table << "  " << std::setw(8) << system.global_size() << " DOFs: " << std::setw(4)
+            << r.report.iterations << " iterations, " << std::fixed << std::setprecision(2)
+            << r.report.preconditioner.setup_seconds << " s setup, " << r.report.solve_seconds << " s solve, "
+            << r.report.preconditioner.levels.size() << " levels\n";
       EXPECT_TRUE(r.report.converged) << GetParam() << " at level " << level;
       EXPECT_LE(r.report.relative_residual, 1.01e-8) << GetParam() << " at level " << level;
     }
@@ -73,24 +82,15 @@ TEST_P(TiedBlocksFamily, ConvergesAtThreeSizes)
     std::cout << GetParam() << " on " << comm()->getSize() << " rank(s):\n" << table.str();
 }
 
-INSTANTIATE_TEST_SUITE_P(ContactPresets, TiedBlocksFamily,
-                         ::testing::Values("pa-amg(cheapsimple)", "sa-amg(cheapsimple)", "emin(cheapsimple)",
-                                           "sa-amg(braess-sarazin)", "sa-amg(uzawa)",
-                                           "fully-coupled-sa-amg(simple)", "cheapsimple(pa-amg)",
-                                           "cheapsimple(sa-amg)", "cheapsimplec(sgs)", "direct(superlu)"),
-                         [](const auto& info) {
-                           std::string n;
-                           for (char c : info.param)
-                             n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(ContactPresets, TiedBlocksFamily, ::testing::ValuesIn(test_helpers::contact_presets),
+                         test_helpers::PresetName());
 
 TEST(TiedBlocks, SuperLUReproducesTheGMRESSolutions)
 {
   TiedBlocksOptions o;
-  o.level           = 2;
-  const auto system = tied_blocks_2d(comm(), o);
-  const auto direct = run(system, "direct(superlu)", 1e-12);
+  o.level                       = 2;
+  const auto             system = tied_blocks_2d(comm(), o);
+  const auto             direct = run(system, "direct(superlu)", 1e-12);
   Teuchos::Array<double> ref(1), diff(1);
   direct.x->norm2(ref);
   for (const std::string name : {"emin(cheapsimple)", "sa-amg(cheapsimple)", "cheapsimple(pa-amg)"})
@@ -109,10 +109,10 @@ TEST(TiedBlocks, DualMortarTransmitsAUniformStateExactly)
 {
   // Patch test of the mortar coupling: a uniform displacement of both bodies is in the kernel
   // of the constraint rows B = [-M D] (the rows of M and D sum to the same value).
-  const auto system = tied_blocks_2d(comm(), {});
-  auto       u      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(system.full_map(), 1, true);
-  auto       data   = u->getDataNonConst(0);
-  const auto& map   = *system.full_map();
+  const auto  system = tied_blocks_2d(comm(), {});
+  auto        u      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(system.full_map(), 1, true);
+  auto        data   = u->getDataNonConst(0);
+  const auto& map    = *system.full_map();
   for (std::size_t i = 0; i < map.getNodeNumElements(); ++i)
     if (map.getGlobalElement(i) < system.block(0).global_size)
       data[i] = (map.getGlobalElement(i) % 2 == 0) ? 0.3 : -0.7;
@@ -122,18 +122,30 @@ TEST(TiedBlocks, DualMortarTransmitsAUniformStateExactly)
   EXPECT_LT(parts[1], 1e-14);
 }
 
-TEST(TiedBlocks, EminIterationsGrowAtMostOneAndAHalfTimesOverSixteenfoldSize)
+class SaddlePointAMGScaling : public ::testing::TestWithParam<std::string>
 {
-  // The seeds' claim for saddle-point AMG, measured on the preset that meets it here (14k, 55k and
-  // 216k DOFs, same 3-level hierarchy); the other presets' counts are printed by the benchmark.
+};
+
+TEST_P(SaddlePointAMGScaling, IterationsGrowAtMostOneAndAHalfTimesOverSixteenfoldSize)
+{
+  // The seeds' claim for saddle-point AMG: 14k, 55k and 216k DOFs, same 3-level hierarchy.
+  // pa-amg(cheapsimple) and fully-coupled-sa-amg(simple) do not meet it on this family (see the
+  // benchmark tied_blocks_family); they are not listed here.
   std::vector<int> iterations;
   for (int level = 2; level <= 4; ++level)
     {
       TiedBlocksOptions o;
       o.level = level;
-      iterations.push_back(run(tied_blocks_2d(comm(), o), "emin(cheapsimple)", 1e-8).report.iterations);
+      iterations.push_back(run(tied_blocks_2d(comm(), o), GetParam(), 1e-8).report.iterations);
     }
   if (comm()->getRank() == 0)
-    std::cout << "emin(cheapsimple): " << iterations[0] << " -> " << iterations[1] << " -> " << iterations[2] << "\n";
-  EXPECT_LE(iterations[2], 1.5 * iterations[0]);
+    std::cout << GetParam() << ": " << iterations[0] << " -> " << iterations[1] << " -> " << iterations[2]
+              << "\n";
+  EXPECT_LE(iterations[2], 1.5 * iterations[0]) << GetParam();
+  EXPECT_LE(iterations[1], 1.5 * iterations[0]) << GetParam();
 }
+
+INSTANTIATE_TEST_SUITE_P(FullyCoupled, SaddlePointAMGScaling,
+                         ::testing::Values("sa-amg(cheapsimple)", "emin(cheapsimple)",
+                                           "sa-amg(braess-sarazin)", "sa-amg(uzawa)"),
+                         test_helpers::PresetName());
