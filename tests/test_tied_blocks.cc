@@ -129,8 +129,6 @@ class SaddlePointAMGScaling : public ::testing::TestWithParam<std::string>
 TEST_P(SaddlePointAMGScaling, IterationsGrowAtMostOneAndAHalfTimesOverSixteenfoldSize)
 {
   // The seeds' claim for saddle-point AMG: 14k, 55k and 216k DOFs, same 3-level hierarchy.
-  // pa-amg(cheapsimple) and fully-coupled-sa-amg(simple) do not meet it on this family (see the
-  // benchmark tied_blocks_family); they are not listed here.
   std::vector<int> iterations;
   for (int level = 2; level <= 4; ++level)
     {
@@ -146,6 +144,7 @@ TEST_P(SaddlePointAMGScaling, IterationsGrowAtMostOneAndAHalfTimesOverSixteenfol
 }
 
 INSTANTIATE_TEST_SUITE_P(FullyCoupled, SaddlePointAMGScaling,
-                         ::testing::Values("sa-amg(cheapsimple)", "emin(cheapsimple)",
-                                           "sa-amg(braess-sarazin)", "sa-amg(uzawa)"),
+                         ::testing::Values("pa-amg(cheapsimple)", "sa-amg(cheapsimple)", "emin(cheapsimple)",
+                                           "sa-amg(braess-sarazin)", "sa-amg(uzawa)",
+                                           "fully-coupled-sa-amg(simple)"),
                          test_helpers::PresetName());
