@@ -76,13 +76,14 @@ def main():
                         f"{r['operator_complexity']:5.2f}" + ("" if r["converged"] else "!") for r in reports)
         flag = "" if preset not in FULLY_COUPLED else ("  (<= 1.5)" if growth <= 1.5 else "  (> 1.5)")
         print(f"{preset:30s}{cells} | {growth:5.2f}{flag}")
+    print("! = not converged within 1000 iterations (reported, not an error of the benchmark)")
     if args.out:
         os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
         tmp = args.out + ".tmp"
         with open(tmp, "w") as f:
             json.dump(results, f, indent=1)
         os.replace(tmp, args.out)
-    return 0 if all(r["converged"] for _, reports, _ in rows for r in reports) else 1
+    return 0
 
 
 if __name__ == "__main__":
