@@ -6,10 +6,10 @@
 // problem. This is where preconditioners are compared on identical matrices.
 //
 // Sample runs:
-//   solve_block_system --builtin tied-blocks-2d:2 --preset "sa-amg(cheapsimple)"
-//   mpirun -np 2 solve_block_system --system ../shared/peer-data/meshtying2D_small \
-//       --preset "pa-amg(cheapsimple)" --tol 1e-4 --per-block --json report.json
-//   solve_block_system --builtin tied-blocks-2d:1 --preset "cheapsimple(sa-amg)" \
+//   solve_block_system --builtin tied-blocks-2d:3 --preset "emin(cheapsimple)"
+//   mpirun -np 2 solve_block_system --system ../shared/peer-data/meshtying2D_small
+//       --xml tests/data/peer_meshtying2D.xml --tol 1e-4 --per-block --json report.json
+//   solve_block_system --builtin tied-blocks-2d:1 --preset "cheapsimple(sa-amg)"
 //       --set "primal solver/max levels=2"
 //   solve_block_system --list-presets
 #include "block_preconditioner.h"

@@ -219,9 +219,10 @@ namespace multigrid
             const std::string xml =
                 expand_template(preset, system.block(0).dofs_per_node,
                                 system.n_blocks() > 1 ? system.block(1).dofs_per_node : 1);
-            muelu               = *Teuchos::getParametersFromXmlString(xml);
-            const auto coarse   = p.sublist("template parameters").get<std::string>("COARSE_SOLVER");
-            info_.coarse_solver = coarse == "CoarseSuperLU" ? "SuperLU (project adaptor, blocks merged)" : coarse;
+            muelu             = *Teuchos::getParametersFromXmlString(xml);
+            const auto coarse = p.sublist("template parameters").get<std::string>("COARSE_SOLVER");
+            info_.coarse_solver =
+                coarse == "CoarseSuperLU" ? "SuperLU (project adaptor, blocks merged)" : coarse;
           }
         else
           {

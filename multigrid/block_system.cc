@@ -29,7 +29,7 @@ namespace multigrid
       else
         {
           const auto ea = a.getNodeElementList(), eb = b.getNodeElementList();
-          for (std::size_t i = 0; i < ea.size() && local_same; ++i)
+          for (decltype(ea.size()) i = 0; i < ea.size() && local_same; ++i)
             local_same = (ea[i] == eb[i]);
         }
       int global_same = 0;

@@ -222,6 +222,30 @@ namespace multigrid
       return d;
     }
 
+    /// The block's owned DOFs numbered within the block (global id minus the block's offset):
+    /// nullspace files are stored in this numbering, independent of the other blocks.
+    RCP<const Map> block_local_map(const BlockInfo& b, const RCP<const Comm>& comm)
+    {
+      std::vector<GO> local;
+      for (GO g : b.map->getNodeElementList())
+        local.push_back(g - b.offset);
+      return Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, b.global_size,
+                                                   Teuchos::ArrayView<const GO>(local), 0, comm);
+    }
+
+    /// The same local values on another map with the same local length.
+    RCP<MultiVector> with_map(const MultiVector& v, const RCP<const Map>& map)
+    {
+      auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, v.getNumVectors());
+      for (std::size_t j = 0; j < v.getNumVectors(); ++j)
+        {
+          const auto src = v.getData(j);
+          auto       dst = copy->getDataNonConst(j);
+          std::copy(src.begin(), src.end(), dst.begin());
+        }
+      return copy;
+    }
+
     /// Contiguous chunk of `n` items owned by `rank` out of `size`.
     std::pair<GO, GO> chunk(GO n, int rank, int size)
     {
@@ -331,23 +355,10 @@ namespace multigrid
       for (std::size_t k = 0; k < d.blocks.size(); ++k)
         if (!d.blocks[k].nullspace.empty())
           {
-            // Nullspace files are numbered within their block: read on a shifted copy of the map.
-            const auto&     map = system.block(k).map;
-            std::vector<GO> local;
-            for (GO g : map->getNodeElementList())
-              local.push_back(g - system.block(k).offset);
-            RCP<const Map> block_local = Xpetra::MapFactory<LO, GO, NO>::Build(
-                Xpetra::UseTpetra, d.blocks[k].size, Teuchos::ArrayView<const GO>(local), 0, comm);
-            auto nsp  = IO::ReadMultiVector(d.blocks[k].nullspace, block_local);
-            auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, nsp->getNumVectors());
-            for (std::size_t j = 0; j < nsp->getNumVectors(); ++j)
-              {
-                auto src = nsp->getData(j);
-                auto dst = copy->getDataNonConst(j);
-                for (std::size_t i = 0; i < src.size(); ++i)
-                  dst[i] = src[i];
-              }
-            system.block(k).nullspace = copy;
+            // Nullspace files are numbered within their block.
+            const auto nsp =
+                IO::ReadMultiVector(d.blocks[k].nullspace, block_local_map(system.block(k), comm));
+            system.block(k).nullspace = with_map(*nsp, system.block(k).map);
           }
 
       if (d.has_interface)
@@ -357,7 +368,7 @@ namespace multigrid
           const auto&     dual   = system.block(1);
           std::vector<GO> interface_dofs;
           const auto      dual_gids = dual.map->getNodeElementList();
-          for (std::size_t i = 0; i < dual_gids.size(); i += dual.dofs_per_node)
+          for (decltype(dual_gids.size()) i = 0; i < dual_gids.size(); i += dual.dofs_per_node)
             {
               const GO dual_node   = (dual_gids[i] - dual.offset) / dual.dofs_per_node;
               const GO primal_node = d.dual_to_primal[dual_node];
@@ -501,22 +512,8 @@ namespace multigrid
         std::string nsp_name = "-";
         if (!b.nullspace.is_null())
           {
-            // Stored numbered within the block, independent of the other blocks' sizes.
-            std::vector<GO> local;
-            for (GO g : b.map->getNodeElementList())
-              local.push_back(g - b.offset);
-            RCP<const Map> block_local = Xpetra::MapFactory<LO, GO, NO>::Build(
-                Xpetra::UseTpetra, b.global_size, Teuchos::ArrayView<const GO>(local), 0, system.comm());
-            auto copy =
-                Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(block_local, b.nullspace->getNumVectors());
-            for (std::size_t j = 0; j < b.nullspace->getNumVectors(); ++j)
-              {
-                auto src = b.nullspace->getData(j);
-                auto dst = copy->getDataNonConst(j);
-                for (std::size_t i = 0; i < src.size(); ++i)
-                  dst[i] = src[i];
-              }
-            nsp_name = "nullspace_" + std::to_string(k) + ".mm";
+            const auto copy = with_map(*b.nullspace, block_local_map(b, system.comm()));
+            nsp_name        = "nullspace_" + std::to_string(k) + ".mm";
             IO::Write(partial + "/" + nsp_name, *copy);
           }
         std::string name = b.name;

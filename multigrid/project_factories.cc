@@ -240,7 +240,7 @@ namespace multigrid
     auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
     {
       auto data = in_set_rows->getDataNonConst(0);
-      for (std::size_t i = 0; i < data.size(); ++i)
+      for (decltype(data.size()) i = 0; i < data.size(); ++i)
         data[i] = set->isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
     }
     auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
