@@ -36,56 +36,6 @@ namespace multigrid
       Teuchos::reduceAll(*a.getComm(), Teuchos::REDUCE_MIN, local_same, Teuchos::outArg(global_same));
       return global_same == 1;
     }
-
-    /// Every row gets a diagonal entry, an explicit zero where the matrix has none (the multiplier
-    /// block of a mesh-tying or active contact system). MueLu's blocked Galerkin product drops a
-    /// structurally empty block, after which SubBlockAFactory fails on the next coarse level; an
-    /// explicit zero keeps the (1,1) block present on every level without changing any value.
-    RCP<Matrix> with_structural_diagonal(const RCP<Matrix>& A)
-    {
-      int missing = 0;
-      for (std::size_t i = 0; i < A->getNodeNumRows() && !missing; ++i)
-        {
-          Teuchos::ArrayView<const LO> cols;
-          Teuchos::ArrayView<const SC> vals;
-          A->getLocalRowView(i, cols, vals);
-          const GO row = A->getRowMap()->getGlobalElement(i);
-          bool     has = false;
-          for (const LO c : cols)
-            has |= (A->getColMap()->getGlobalElement(c) == row);
-          missing = !has;
-        }
-      int missing_anywhere = 0;
-      Teuchos::reduceAll(*A->getRowMap()->getComm(), Teuchos::REDUCE_MAX, missing,
-                         Teuchos::outArg(missing_anywhere));
-      if (!missing_anywhere)
-        return A;
-      RCP<Matrix> B =
-          Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A->getRowMap(), A->getNodeMaxNumRowEntries() + 1);
-      for (std::size_t i = 0; i < A->getNodeNumRows(); ++i)
-        {
-          Teuchos::ArrayView<const LO> cols;
-          Teuchos::ArrayView<const SC> vals;
-          A->getLocalRowView(i, cols, vals);
-          const GO        row = A->getRowMap()->getGlobalElement(i);
-          std::vector<GO> gcols;
-          std::vector<SC> gvals(vals.begin(), vals.end());
-          bool            has = false;
-          for (const LO c : cols)
-            {
-              gcols.push_back(A->getColMap()->getGlobalElement(c));
-              has |= (gcols.back() == row);
-            }
-          if (!has)
-            {
-              gcols.push_back(row);
-              gvals.push_back(0.0);
-            }
-          B->insertGlobalValues(row, gcols, gvals);
-        }
-      B->fillComplete(A->getDomainMap(), A->getRangeMap());
-      return B;
-    }
   } // namespace
 
   BlockSystem BlockSystem::from_merged(RCP<const Comm> comm, std::vector<BlockInfo> blocks,
@@ -152,7 +102,6 @@ namespace multigrid
       throw InputError("BlockSystem: right-hand side has length " + std::to_string(rhs->getGlobalLength()) +
                        ", expected " + std::to_string(offset));
 
-    merged_matrix     = with_structural_diagonal(merged_matrix);
     system.extractor_ = Xpetra::MapExtractorFactory<SC, LO, GO, NO>::Build(full_map, sub_maps, false);
     system.blocked_   = Xpetra::MatrixUtils<SC, LO, GO, NO>::SplitMatrix(*merged_matrix, system.extractor_,
                                                                          system.extractor_);
