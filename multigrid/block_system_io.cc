@@ -64,9 +64,10 @@ namespace multigrid
       Teuchos::broadcast(comm, 0, Teuchos::outArg(length));
       message.resize(length);
       if (length > 0)
-        Teuchos::broadcast(comm, 0, length, message.data());
-      if (length > 0)
-        throw InputError(message);
+        {
+          Teuchos::broadcast(comm, 0, length, message.data());
+          throw InputError(message);
+        }
     }
 
     std::vector<GO> read_integer_array(const std::string& file, long long& rows, long long& cols)
@@ -191,8 +192,9 @@ namespace multigrid
       const std::string interface_file = prefix + "_interface_dof_map_MPI1.mm";
       require_file(interface_file, "interface DOF map");
 
-      const auto matrix = scan_matrix_market(d.matrix);
-      const auto nsp    = scan_matrix_market(nullspace);
+      // Sizes only: the entries are checked once, on rank 0, when the system is loaded.
+      const auto matrix = scan_matrix_market(d.matrix, false);
+      const auto nsp    = scan_matrix_market(nullspace, false);
       if (matrix.rows != matrix.cols)
         throw InputError(d.matrix + ": matrix is " + std::to_string(matrix.rows) + " x " +
                          std::to_string(matrix.cols) + ", expected a square saddle-point system");
@@ -397,7 +399,7 @@ namespace multigrid
     }
   } // namespace
 
-  MatrixMarketHeader scan_matrix_market(const std::string& file)
+  MatrixMarketHeader scan_matrix_market(const std::string& file, bool check_entries)
   {
     std::ifstream in(file);
     if (!in)
@@ -434,6 +436,8 @@ namespace multigrid
             if (!h.coordinate)
               h.entries = h.rows * h.cols;
             have_size = true;
+            if (!check_entries)
+              return h;
             continue;
           }
         ++count;

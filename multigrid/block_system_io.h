@@ -50,7 +50,7 @@ namespace multigrid
     std::string field; ///< real, integer, ...
     long long   rows = 0, cols = 0, entries = 0;
   };
-  /// Reads the header and checks every entry line: index ranges, count, finite values. Throws
-  /// InputError naming the file, the line and what was expected.
-  MatrixMarketHeader scan_matrix_market(const std::string& file);
+  /// Reads the header and (with `check_entries`) every entry line: index ranges, count, finite
+  /// values. Throws InputError naming the file, the line and what was expected.
+  MatrixMarketHeader scan_matrix_market(const std::string& file, bool check_entries = true);
 } // namespace multigrid
