@@ -61,7 +61,8 @@ namespace multigrid
         else
           set = Get<RCP<const Map>>(level, "segregation dofs");
 
-        RCP<Matrix> filtered = segregated_matrix(*A, *set);
+        // Nothing to cut (e.g. mesh tying of bodies without coupling in A): no copy.
+        RCP<Matrix> filtered = set->getGlobalNumElements() == 0 ? A : segregated_matrix(*A, *set);
         Set(level, "A", filtered);
       }
     };
@@ -233,15 +234,14 @@ namespace multigrid
     };
   } // namespace
 
-  RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set_map)
+  RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set)
   {
-    const Map* set = &set_map;
     // Membership flag of every row, then of every column (imported: the column owner decides).
     auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
     {
       auto data = in_set_rows->getDataNonConst(0);
       for (decltype(data.size()) i = 0; i < data.size(); ++i)
-        data[i] = set->isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
+        data[i] = set.isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
     }
     auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
     auto importer    = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
