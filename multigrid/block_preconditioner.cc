@@ -64,10 +64,11 @@ namespace multigrid
       return list.isParameter(name) ? list.get<std::string>(name) : fallback;
     }
 
-    void fill_levels(PreconditionerInfo& info, Hierarchy& H)
+    /// Level table and operator complexity (sum of nonzeros over the fine level's).
+    void fill_levels(PreconditionerInfo& info, const std::vector<std::pair<long long, long long>>& sizes)
     {
       long long total = 0;
-      for (const auto& [rows, nnz] : level_sizes(H))
+      for (const auto& [rows, nnz] : sizes)
         {
           info.levels.push_back({rows, nnz, {}});
           total += nnz;
@@ -120,6 +121,8 @@ namespace multigrid
       L0->Set("Nullspace1", system.nullspace_or_translations(0));
       L0->Set("Nullspace2", system.nullspace_or_translations(1));
       L0->Set("DualNodeID2PrimalNodeID", Teuchos::rcp(new std::map<LO, LO>(interface.dual_to_primal_node)));
+      // For user XML with MueLu's dof-based InterfaceAggregationFactory (the presets use the
+      // node-based mapping above).
       L0->Set("Primal interface DOF map", interface.primal_interface_dofs);
       RCP<const Map> segregation = interface.segregation_dofs;
       if (segregation.is_null()) // nothing to cut: an empty set keeps every entry
@@ -181,16 +184,9 @@ namespace multigrid
       }
     else if (preset.kind == "cheapsimple")
       {
-        auto      cs    = with_preset_context(preset.name,
-                                              [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
-        long long total = 0, fine = 0;
-        for (const auto& [rows, nnz] : cs->primal_levels())
-          {
-            info_.levels.push_back({rows, nnz, {}});
-            total += nnz;
-            fine = fine ? fine : nnz;
-          }
-        info_.operator_complexity = fine ? static_cast<double>(total) / fine : 1.0;
+        auto cs = with_preset_context(preset.name,
+                                      [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
+        fill_levels(info_, cs->primal_levels());
         info_.notes.push_back("levels are those of the inner primal solver");
         info_.notes.push_back("Schur complement nonzeros " + std::to_string(cs->schur_nonzeros()));
         info_.coarse_solver = "primal: " + string_or(p.sublist("primal solver"), "coarse: type", "KLU2");
@@ -206,7 +202,7 @@ namespace multigrid
           return build_single_field_hierarchy(system.merged_matrix(), system.block(0).dofs_per_node,
                                               system.nullspace_or_translations(0), p.sublist("MueLu"));
         });
-        fill_levels(info_, *H);
+        fill_levels(info_, level_sizes(*H));
         hierarchy_          = H;
         info_.coarse_solver = string_or(p.sublist("MueLu"), "coarse: type", "KLU2");
         op_                 = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
@@ -228,10 +224,11 @@ namespace multigrid
           {
             muelu = p;
             muelu.remove("kind", false);
+            muelu.remove("description", false);
           }
         auto H =
             with_preset_context(preset.name, [&] { return build_saddle_point_hierarchy(system, muelu); });
-        fill_levels(info_, *H);
+        fill_levels(info_, level_sizes(*H));
         for (int l = 0; l < H->GetNumLevels(); ++l)
           {
             auto bA = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(H->GetLevel(l)->Get<RCP<Matrix>>("A"));
