@@ -9,19 +9,19 @@
 #include <Xpetra_MultiVectorFactory.hpp>
 #include <gtest/gtest.h>
 
+#include "test_helpers.h"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 using namespace multigrid;
+using test_helpers::comm;
+using test_helpers::peer;
 namespace fs = std::filesystem;
 
 namespace
 {
-  RCP<const Comm> comm()
-  {
-    return Tpetra::getDefaultComm();
-  }
 
   /// A directory every rank agrees on (rank 0's name), removed at the end of the test.
   std::string scratch(const std::string& name)
@@ -36,11 +36,6 @@ namespace
     Teuchos::Array<double> n(1);
     v.norm2(n);
     return n[0];
-  }
-
-  std::string peer(const std::string& name)
-  {
-    return std::string(PEER_DATA_DIR) + "/" + name;
   }
 
   template <typename F>

@@ -16,6 +16,8 @@
 #include <Xpetra_MultiVectorFactory.hpp>
 #include <gtest/gtest.h>
 
+#include "test_helpers.h"
+
 #include <filesystem>
 #include <fstream>
 #include <queue>
@@ -23,18 +25,12 @@
 #include <sstream>
 
 using namespace multigrid;
+using test_helpers::comm;
+using test_helpers::peer;
 namespace fs = std::filesystem;
 
 namespace
 {
-  RCP<const Comm> comm()
-  {
-    return Tpetra::getDefaultComm();
-  }
-  std::string peer(const std::string& name)
-  {
-    return std::string(PEER_DATA_DIR) + "/" + name;
-  }
 
   /// Global graph of a Matrix Market file (small files only), 0-based.
   std::vector<std::set<long long>> graph_of(const std::string& file)

@@ -11,6 +11,7 @@
 #include "test_helpers.h"
 
 using namespace multigrid;
+using test_helpers::comm;
 
 class PresetLinearity : public ::testing::TestWithParam<std::string>
 {

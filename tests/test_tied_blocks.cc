@@ -20,13 +20,10 @@
 #include <iomanip>
 
 using namespace multigrid;
+using test_helpers::comm;
 
 namespace
 {
-  RCP<const Comm> comm()
-  {
-    return Tpetra::getDefaultComm();
-  }
 
   Preset preset_for_2d_family(const std::string& name)
   {
