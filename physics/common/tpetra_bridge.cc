@@ -1,0 +1,73 @@
+#include "tpetra_bridge.h"
+
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Xpetra_MapFactory.hpp>
+#include <Xpetra_MatrixFactory.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <Epetra_CrsMatrix.h>
+
+#include <vector>
+
+namespace physics
+{
+  using namespace multigrid;
+
+  RCP<const Comm> teuchos_comm(MPI_Comm comm)
+  {
+    return Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+  }
+
+  RCP<const Map> to_xpetra_map(const dealii::IndexSet& locally_owned, MPI_Comm comm)
+  {
+    std::vector<GO> gids;
+    gids.reserve(locally_owned.n_elements());
+    for (const auto i : locally_owned)
+      gids.push_back(static_cast<GO>(i));
+    return Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, locally_owned.size(),
+                                                 Teuchos::ArrayView<const GO>(gids), 0, teuchos_comm(comm));
+  }
+
+  RCP<Matrix> to_xpetra(const dealii::TrilinosWrappers::SparseMatrix& A)
+  {
+    const Epetra_CrsMatrix& E       = A.trilinos_matrix();
+    const MPI_Comm          comm    = A.get_mpi_communicator();
+    const auto              row_map = to_xpetra_map(A.locally_owned_range_indices(), comm);
+    const auto              domain  = to_xpetra_map(A.locally_owned_domain_indices(), comm);
+
+    RCP<Matrix>         B = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, E.MaxNumEntries());
+    std::vector<double> values(E.MaxNumEntries());
+    std::vector<int>    columns(E.MaxNumEntries());
+    std::vector<GO>     wide(E.MaxNumEntries());
+    for (int local_row = 0; local_row < E.NumMyRows(); ++local_row)
+      {
+        int n = 0;
+        E.ExtractMyRowCopy(local_row, static_cast<int>(values.size()), n, values.data(), columns.data());
+        for (int k = 0; k < n; ++k)
+          wide[k] = static_cast<GO>(E.ColMap().GID(columns[k]));
+        B->insertGlobalValues(static_cast<GO>(E.RowMap().GID(local_row)),
+                              Teuchos::ArrayView<const GO>(wide.data(), n),
+                              Teuchos::ArrayView<const SC>(values.data(), n));
+      }
+    B->fillComplete(domain, row_map);
+    return B;
+  }
+
+  RCP<MultiVector> to_xpetra(const dealii::TrilinosWrappers::MPI::Vector& v, const RCP<const Map>& map)
+  {
+    auto x    = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, 1);
+    auto data = x->getDataNonConst(0);
+    for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
+      data[i] = v[static_cast<dealii::types::global_dof_index>(map->getGlobalElement(i))];
+    return x;
+  }
+
+  void copy_to_dealii(const MultiVector& x, dealii::TrilinosWrappers::MPI::Vector& v)
+  {
+    const auto data = x.getData(0);
+    const auto map  = x.getMap();
+    for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
+      v[static_cast<dealii::types::global_dof_index>(map->getGlobalElement(i))] = data[i];
+    v.compress(dealii::VectorOperation::insert);
+  }
+} // namespace physics

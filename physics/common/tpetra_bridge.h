@@ -1,0 +1,35 @@
+// The bridge from deal.II assembly to the block-AMG module's Tpetra objects.
+//
+// deal.II 9.4 (Debian) wraps Epetra only, and MueLu here is Tpetra-only (PLATFORM.md). Assembly
+// therefore goes through deal.II's distributed TrilinosWrappers matrices, where
+// AffineConstraints::distribute_local_to_global, ghosted assembly and compress() work as in the
+// tutorials, and the finished rows are copied into an Xpetra/Tpetra matrix with the same row
+// distribution (global ids widened from int to long long). The copy costs one extra matrix in
+// memory during the hand-over; it keeps every deal.II idiom intact.
+#pragma once
+
+#include "types.h"
+
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <mpi.h>
+
+namespace physics
+{
+  /// Teuchos communicator over the same MPI communicator deal.II uses.
+  multigrid::RCP<const multigrid::Comm> teuchos_comm(MPI_Comm comm);
+
+  /// Row map of a deal.II-distributed object: this rank's locally owned global ids.
+  multigrid::RCP<const multigrid::Map> to_xpetra_map(const dealii::IndexSet& locally_owned, MPI_Comm comm);
+
+  /// Copy of a compressed (assembled) TrilinosWrappers matrix; rows distributed as in deal.II.
+  multigrid::RCP<multigrid::Matrix> to_xpetra(const dealii::TrilinosWrappers::SparseMatrix& A);
+
+  /// Copy of a TrilinosWrappers vector (non-ghosted) as a one-column multivector on `map`.
+  multigrid::RCP<multigrid::MultiVector> to_xpetra(const dealii::TrilinosWrappers::MPI::Vector& v,
+                                                   const multigrid::RCP<const multigrid::Map>&  map);
+
+  /// Writes the locally owned entries of x (one column, same global ids) into v.
+  void copy_to_dealii(const multigrid::MultiVector& x, dealii::TrilinosWrappers::MPI::Vector& v);
+} // namespace physics
