@@ -28,10 +28,36 @@ namespace multigrid
       return f + ".xml";
     }
 
+    /// Teuchos reads a double or int parameter whose text is not a number as 0 without a word;
+    /// every numeric value is checked here first, so that a typo is an error, not a zero.
+    void check_numeric_values(const std::string& file)
+    {
+      std::ifstream     in(file);
+      std::stringstream buffer;
+      buffer << in.rdbuf();
+      const std::string       text = buffer.str();
+      static const std::regex parameter(
+          R"re(<Parameter\s+name="([^"]*)"\s+type="(double|int)"\s+value="([^"]*)")re");
+      for (auto it = std::sregex_iterator(text.begin(), text.end(), parameter); it != std::sregex_iterator();
+           ++it)
+        {
+          const std::string name = (*it)[1], type = (*it)[2], value = (*it)[3];
+          char*             end = nullptr;
+          if (type == "double")
+            std::strtod(value.c_str(), &end);
+          else
+            std::strtol(value.c_str(), &end, 10);
+          if (value.empty() || *end != '\0')
+            throw InputError(file + ": parameter '" + name + "' has value '" + value + "', expected a" +
+                             (type == "int" ? "n integer" : " number"));
+        }
+    }
+
     Teuchos::ParameterList read_xml(const std::string& file)
     {
       if (!fs::is_regular_file(file))
         throw InputError(file + ": preset file not found");
+      check_numeric_values(file);
       try
         {
           return *Teuchos::getParametersFromXmlFile(file);
