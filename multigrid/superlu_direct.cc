@@ -128,8 +128,11 @@ namespace multigrid
     root_map_ = Xpetra::MapFactory<LO, GO, NO>::Build(distributed_map_->lib(), A->getGlobalNumRows(),
                                                       Teuchos::ArrayView<const GO>(all),
                                                       distributed_map_->getIndexBase(), comm);
-    auto        importer = Xpetra::ImportFactory<LO, GO, NO>::Build(A->getRowMap(), root_map_);
-    RCP<Matrix> root     = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A, *importer, root_map_, root_map_);
+    gather_   = Xpetra::ImportFactory<LO, GO, NO>::Build(distributed_map_, root_map_);
+    RCP<const Xpetra::Import<LO, GO, NO>> importer = gather_;
+    if (!A->getRowMap()->isSameAs(*distributed_map_))
+      importer = Xpetra::ImportFactory<LO, GO, NO>::Build(A->getRowMap(), root_map_);
+    RCP<Matrix> root = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A, *importer, root_map_, root_map_);
 
     int info = 0;
     if (comm->getRank() == 0)
@@ -176,10 +179,16 @@ namespace multigrid
 
   void SuperLUDirect::solve(const MultiVector& B, MultiVector& X) const
   {
-    const std::size_t n_rhs    = B.getNumVectors();
-    auto              importer = Xpetra::ImportFactory<LO, GO, NO>::Build(B.getMap(), root_map_);
-    auto              root_b   = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(root_map_, n_rhs);
-    root_b->doImport(B, *importer, Xpetra::INSERT);
+    // The cached gather serves every vector distributed like the matrix (the usual case); a vector
+    // on another map gets its own importer.
+    auto importer_for = [this](const RCP<const Map>& map) -> RCP<const Xpetra::Import<LO, GO, NO>> {
+      if (map.get() == distributed_map_.get() || map->isSameAs(*distributed_map_))
+        return gather_;
+      return Xpetra::ImportFactory<LO, GO, NO>::Build(map, root_map_);
+    };
+    const std::size_t n_rhs  = B.getNumVectors();
+    auto              root_b = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(root_map_, n_rhs);
+    root_b->doImport(B, *importer_for(B.getMap()), Xpetra::INSERT);
     if (factors_ && factors_->n > 0)
       {
         const int           n = factors_->n;
@@ -196,8 +205,7 @@ namespace multigrid
             std::copy(rhs.begin() + j * n, rhs.begin() + (j + 1) * n, data.begin());
           }
       }
-    auto back = Xpetra::ImportFactory<LO, GO, NO>::Build(root_map_, X.getMap());
-    X.doImport(*root_b, *back, Xpetra::INSERT);
+    X.doExport(*root_b, *importer_for(X.getMap()), Xpetra::INSERT); // reverse of the gather
   }
 
   DirectSolverOperator::DirectSolverOperator(const RCP<const Matrix>& A)

@@ -15,6 +15,7 @@
 
 #include "types.h"
 
+#include <Xpetra_Import.hpp>
 #include <Xpetra_Matrix.hpp>
 #include <Xpetra_Operator.hpp>
 
@@ -43,8 +44,10 @@ namespace multigrid
     struct Factors;
     RCP<const ::multigrid::Map> distributed_map_;
     RCP<const ::multigrid::Map> root_map_;
-    std::unique_ptr<Factors>    factors_; ///< only on rank 0
-    long long                   factor_nnz_ = 0;
+    /// distributed -> rank 0, built once: solves run on every coarse-level visit of every cycle.
+    RCP<const Xpetra::Import<LO, GO, NO>> gather_;
+    std::unique_ptr<Factors>              factors_; ///< only on rank 0
+    long long                             factor_nnz_ = 0;
   };
 
   /// direct(superlu) as an Xpetra operator: apply(B) = A^-1 B. Used as a "preconditioner" in the
