@@ -1,0 +1,149 @@
+// contact_blocks: quasi-static frictionless mortar contact of two hyperelastic blocks (2D or 3D),
+// semi-smooth Newton, GMRES with the block-AMG presets. Everything is set in a .prm file.
+//
+//   mpirun -np 2 contact_blocks apps/contact_blocks_2d.prm
+//   contact_blocks --print-parameters      (all parameters with their documentation)
+#include "contact/contact_problem.h"
+#include "types.h"
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
+#include <Tpetra_Core.hpp>
+
+#include <filesystem>
+#include <iostream>
+
+namespace
+{
+  const char* usage = R"USAGE(usage: contact_blocks [PARAMETER_FILE.prm] [--set "Section/Entry=value"]...
+       contact_blocks --help | --print-parameters
+
+Quasi-static frictionless mortar contact of two bodies meshed with gmsh (2D plane strain or 3D),
+semi-smooth Newton (active set updated inside the Newton loop), each Newton system solved by GMRES
+preconditioned with a preset of the block-AMG module. Writes Directory/run_log.jsonl (one JSON
+object per Newton step), Directory/solution.pvd (+ pvtu per load step) and, on request, every
+Newton system as a BlockSystem directory for solve_block_system.
+
+  --print-parameters   print every parameter with its default and documentation, then exit
+  --set S/E=V          override one parameter after reading the file, e.g.
+                       --set "Linear solver/Preset=direct(superlu)"
+Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
+)USAGE";
+}
+
+int main(int argc, char** argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Tpetra::ScopeGuard                       tpetra(&argc, &argv);
+  const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  dealii::ParameterHandler prm;
+  physics::contact::ContactParameters::declare(prm);
+  std::string              file;
+  std::vector<std::string> sets;
+  for (int i = 1; i < argc; ++i)
+    {
+      const std::string a = argv[i];
+      if (a == "--help" || a == "-h")
+        {
+          if (root)
+            std::cout << usage;
+          return 0;
+        }
+      if (a == "--print-parameters")
+        {
+          if (root)
+            prm.print_parameters(std::cout, dealii::ParameterHandler::Text);
+          return 0;
+        }
+      if (a == "--set" && i + 1 < argc)
+        sets.push_back(argv[++i]);
+      else if (!a.empty() && a[0] != '-' && file.empty())
+        file = a;
+      else
+        {
+          if (root)
+            std::cerr << "contact_blocks: unknown argument '" << a << "' (see --help)\n";
+          return 2;
+        }
+    }
+  try
+    {
+      if (!file.empty())
+        {
+          if (!std::filesystem::is_regular_file(file))
+            throw std::invalid_argument(file + ": parameter file not found");
+          try
+            {
+              prm.parse_input(file, "", true, true);
+            }
+          catch (const dealii::ExceptionBase& e)
+            {
+              std::string what = e.what();
+              const auto  pos  = what.find("Additional information:");
+              what             = pos == std::string::npos ? "cannot parse" : what.substr(pos + 24);
+              std::string line;
+              for (char c : what)
+                line += (c == '\n') ? ' ' : c;
+              throw std::invalid_argument(file + ": " + line.substr(0, 300));
+            }
+        }
+      for (const auto& s : sets)
+        {
+          const auto eq = s.find('='), slash = s.rfind('/', eq);
+          if (eq == std::string::npos || slash == std::string::npos)
+            throw std::invalid_argument("--set '" + s + "': expected Section/Entry=value");
+          prm.enter_subsection(s.substr(0, slash));
+          try
+            {
+              prm.set(s.substr(slash + 1, eq - slash - 1), s.substr(eq + 1));
+            }
+          catch (const dealii::ExceptionBase&)
+            {
+              prm.leave_subsection();
+              throw std::invalid_argument("--set '" + s + "': unknown parameter or value out of its pattern");
+            }
+          prm.leave_subsection();
+        }
+      physics::contact::ContactParameters p;
+      p.parse(prm);
+      const auto summary = physics::contact::run_contact(p, MPI_COMM_WORLD);
+      if (root)
+        {
+          int total_newton = 0, total_linear = 0, max_linear = 0;
+          for (int n : summary.newton_iterations)
+            total_newton += n;
+          for (int n : summary.linear_iterations)
+            {
+              total_linear += n;
+              max_linear = std::max(max_linear, n);
+            }
+          std::cout << "Summary: " << summary.load_steps_done << " load steps, " << total_newton
+                    << " Newton steps, GMRES iterations per Newton step: average "
+                    << (summary.linear_iterations.empty() ? 0.0
+                                                          : double(total_linear) / summary.linear_iterations.size())
+                    << ", max " << max_linear << "; setup " << summary.setup_seconds << " s, solve "
+                    << summary.linear_seconds << " s; " << (summary.converged ? "converged" : "NOT converged")
+                    << "\n";
+        }
+      return summary.converged ? 0 : 1;
+    }
+  catch (const multigrid::InputError& e)
+    {
+      if (root)
+        std::cerr << "contact_blocks: " << e.what() << "\n";
+      return 2;
+    }
+  catch (const std::invalid_argument& e)
+    {
+      if (root)
+        std::cerr << "contact_blocks: " << e.what() << "\n";
+      return 2;
+    }
+  catch (const std::exception& e)
+    {
+      if (root)
+        std::cerr << "contact_blocks: error: " << e.what() << "\n";
+      return 3;
+    }
+}

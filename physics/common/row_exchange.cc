@@ -1,0 +1,71 @@
+#include "common/row_exchange.h"
+
+#include <vector>
+
+namespace physics
+{
+  namespace
+  {
+    struct Triplet
+    {
+      GlobalIndex row, col;
+      double      value;
+    };
+
+    /// Sends triplets[r] to rank r, returns everything received.
+    std::vector<Triplet> all_to_all(const std::vector<std::vector<Triplet>>& outgoing, MPI_Comm comm)
+    {
+      int n_ranks = 1;
+      MPI_Comm_size(comm, &n_ranks);
+      std::vector<int> send_counts(n_ranks), recv_counts(n_ranks), send_offsets(n_ranks + 1, 0),
+          recv_offsets(n_ranks + 1, 0);
+      for (int r = 0; r < n_ranks; ++r)
+        send_counts[r] = static_cast<int>(outgoing[r].size() * sizeof(Triplet));
+      MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm);
+      for (int r = 0; r < n_ranks; ++r)
+        {
+          send_offsets[r + 1] = send_offsets[r] + send_counts[r];
+          recv_offsets[r + 1] = recv_offsets[r] + recv_counts[r];
+        }
+      std::vector<char> send(send_offsets[n_ranks]), recv(recv_offsets[n_ranks]);
+      for (int r = 0; r < n_ranks; ++r)
+        std::copy(reinterpret_cast<const char*>(outgoing[r].data()),
+                  reinterpret_cast<const char*>(outgoing[r].data()) + send_counts[r], send.data() + send_offsets[r]);
+      MPI_Alltoallv(send.data(), send_counts.data(), send_offsets.data(), MPI_BYTE, recv.data(), recv_counts.data(),
+                    recv_offsets.data(), MPI_BYTE, comm);
+      std::vector<Triplet> received(recv.size() / sizeof(Triplet));
+      std::copy(recv.begin(), recv.end(), reinterpret_cast<char*>(received.data()));
+      return received;
+    }
+  } // namespace
+
+  RowPieces send_rows_to_owners(const RowPieces& rows, const std::function<unsigned int(GlobalIndex)>& owner,
+                                MPI_Comm comm)
+  {
+    int n_ranks = 1;
+    MPI_Comm_size(comm, &n_ranks);
+    std::vector<std::vector<Triplet>> outgoing(n_ranks);
+    for (const auto& [row, piece] : rows)
+      for (const auto& [col, value] : piece)
+        outgoing[owner(row)].push_back({row, col, value});
+    RowPieces result;
+    for (const auto& t : all_to_all(outgoing, comm))
+      result[t.row][t.col] += t.value;
+    return result;
+  }
+
+  std::map<GlobalIndex, double> send_entries_to_owners(const std::map<GlobalIndex, double>& entries,
+                                                       const std::function<unsigned int(GlobalIndex)>& owner,
+                                                       MPI_Comm comm)
+  {
+    int n_ranks = 1;
+    MPI_Comm_size(comm, &n_ranks);
+    std::vector<std::vector<Triplet>> outgoing(n_ranks);
+    for (const auto& [row, value] : entries)
+      outgoing[owner(row)].push_back({row, 0, value});
+    std::map<GlobalIndex, double> result;
+    for (const auto& t : all_to_all(outgoing, comm))
+      result[t.row] += t.value;
+    return result;
+  }
+} // namespace physics

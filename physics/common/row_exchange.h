@@ -1,0 +1,27 @@
+// Sending assembled pieces to the rank that owns them. Surface terms (contact, coupling) are
+// integrated where the slave face lives, but their rows belong to whichever rank owns the DOF;
+// these helpers route (row, column, value) triplets and (row, value) pairs to the owners, where
+// they are summed. One all-to-all of counts and one of data per call.
+#pragma once
+
+#include <deal.II/base/types.h>
+
+#include <mpi.h>
+
+#include <functional>
+#include <map>
+
+namespace physics
+{
+  using GlobalIndex = dealii::types::global_dof_index;
+  using RowPieces   = std::map<GlobalIndex, std::map<GlobalIndex, double>>;
+
+  /// Rows not owned here are sent to `owner(row)` and summed there; returns the owned rows.
+  RowPieces send_rows_to_owners(const RowPieces& rows, const std::function<unsigned int(GlobalIndex)>& owner,
+                                MPI_Comm comm);
+
+  /// The same for a sparse vector.
+  std::map<GlobalIndex, double> send_entries_to_owners(const std::map<GlobalIndex, double>& entries,
+                                                       const std::function<unsigned int(GlobalIndex)>& owner,
+                                                       MPI_Comm comm);
+} // namespace physics

@@ -1,0 +1,63 @@
+// Run output shared by every app: a JSON-lines solver log and a ParaView .pvd series of
+// per-step .pvtu records. Both are written so that an interrupted run leaves only complete
+// files behind: each log line goes out in one write() and is flushed; the .pvd index is
+// rewritten to a temporary file and renamed after each step's .vtu/.pvtu files are complete,
+// so it never lists a step that was not fully written.
+#pragma once
+
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace physics
+{
+  /// One JSON object per line. Only the rank that opened it writes (the others hold a closed log).
+  class JsonLinesLog
+  {
+  public:
+    JsonLinesLog() = default;
+    /// Opens (truncates) `file`; throws std::runtime_error naming the file if it cannot.
+    explicit JsonLinesLog(const std::string& file);
+    bool is_open() const { return out_.is_open(); }
+
+    /// Builder of one line: add fields, then write().
+    class Line
+    {
+    public:
+      Line& add(const std::string& key, double value);
+      Line& add(const std::string& key, long long value);
+      Line& add(const std::string& key, int value) { return add(key, static_cast<long long>(value)); }
+      Line& add(const std::string& key, bool value);
+      Line& add(const std::string& key, const std::string& value);
+      std::string str() const { return "{" + body_ + "}"; }
+
+    private:
+      void        key(const std::string& k);
+      std::string body_;
+    };
+    void write(const Line& line);
+
+  private:
+    std::ofstream out_;
+  };
+
+  /// The .pvd index of a time series of .pvtu records.
+  class PvdSeries
+  {
+  public:
+    explicit PvdSeries(std::string file)
+        : file_(std::move(file))
+    {
+    }
+    /// Adds (time, pvtu file name relative to the .pvd) and rewrites the index atomically.
+    void add(double time, const std::string& pvtu);
+
+  private:
+    std::string                                  file_;
+    std::vector<std::pair<double, std::string>> entries_;
+  };
+
+  /// JSON string escaping (quotes, backslashes, control characters).
+  std::string json_escape(const std::string& s);
+} // namespace physics

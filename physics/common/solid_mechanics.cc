@@ -1,0 +1,166 @@
+#include "common/solid_mechanics.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <stdexcept>
+
+namespace physics
+{
+  using namespace dealii;
+
+  namespace
+  {
+    template <int dim>
+    const HyperelasticMaterial<dim>& material_of(const SolidModel<dim>& model, types::material_id id)
+    {
+      const auto it = model.materials.find(id);
+      if (it == model.materials.end())
+        throw std::invalid_argument("a cell has material id " + std::to_string(id) +
+                                    ", for which no material is defined");
+      return *it->second;
+    }
+
+    /// Deformation gradients F = I + grad u at the quadrature points of a cell.
+    template <int dim>
+    void deformation_gradients(const FEValues<dim>& fe_values, const TrilinosWrappers::MPI::Vector& u,
+                               std::vector<Tensor<2, dim>>& F)
+    {
+      const FEValuesExtractors::Vector displacement(0);
+      std::vector<Tensor<2, dim>>      grad_u(fe_values.n_quadrature_points);
+      fe_values[displacement].get_function_gradients(u, grad_u);
+      F.resize(grad_u.size());
+      for (unsigned int q = 0; q < grad_u.size(); ++q)
+        F[q] = unit_symmetric_tensor<dim>() + grad_u[q];
+    }
+  } // namespace
+
+  template <int dim>
+  void assemble_solid(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                      const TrilinosWrappers::MPI::Vector& u, const AffineConstraints<double>& constraints,
+                      TrilinosWrappers::MPI::Vector& residual, TrilinosWrappers::SparseMatrix* tangent)
+  {
+    const auto&       fe = dof_handler.get_fe();
+    const QGauss<dim> quadrature(fe.degree + 1);
+    const QGauss<dim - 1> face_quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    FEFaceValues<dim> fe_face_values(fe, face_quadrature, update_values | update_JxW_values);
+    const FEValuesExtractors::Vector displacement(0);
+
+    const unsigned int n = fe.n_dofs_per_cell();
+    FullMatrix<double> cell_matrix(n, n);
+    Vector<double>     cell_residual(n);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<Tensor<2, dim>>          F, grad_N(n);
+
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto& material = material_of(model, cell->material_id());
+        fe_values.reinit(cell);
+        deformation_gradients(fe_values, u, F);
+        cell_matrix   = 0;
+        cell_residual = 0;
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          {
+            const auto           st  = material.stress_and_tangent(F[q]);
+            const Tensor<2, dim> P   = F[q] * Tensor<2, dim>(st.S);
+            const double         JxW = fe_values.JxW(q);
+            for (unsigned int i = 0; i < n; ++i)
+              grad_N[i] = fe_values[displacement].gradient(i, q);
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                cell_residual(i) += scalar_product(P, grad_N[i]) * JxW;
+                if (!tangent)
+                  continue;
+                // K_ij = (grad N_i S) : grad N_j + sym(F^T grad N_i) : CC : sym(F^T grad N_j)
+                const SymmetricTensor<2, dim> dE_i = symmetrize(transpose(F[q]) * grad_N[i]);
+                const SymmetricTensor<2, dim> dS_i = st.CC * dE_i;
+                for (unsigned int j = 0; j < n; ++j)
+                  {
+                    const double geometric = scalar_product(grad_N[i] * Tensor<2, dim>(st.S), grad_N[j]);
+                    const double mat       = dS_i * symmetrize(transpose(F[q]) * grad_N[j]);
+                    cell_matrix(i, j) += (geometric + mat) * JxW;
+                  }
+              }
+          }
+        // Dead nominal tractions: subtract int t0 . N_i dA.
+        for (const unsigned int f : cell->face_indices())
+          {
+            if (!cell->face(f)->at_boundary())
+              continue;
+            const auto t = model.tractions.find(cell->face(f)->boundary_id());
+            if (t == model.tractions.end())
+              continue;
+            fe_face_values.reinit(cell, f);
+            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+              for (unsigned int i = 0; i < n; ++i)
+                cell_residual(i) -=
+                    fe_face_values[displacement].value(i, q) * t->second * fe_face_values.JxW(q);
+          }
+        cell->get_dof_indices(dofs);
+        if (tangent)
+          constraints.distribute_local_to_global(cell_matrix, cell_residual, dofs, *tangent, residual);
+        else
+          constraints.distribute_local_to_global(cell_residual, dofs, residual);
+      }
+    if (tangent)
+      tangent->compress(VectorOperation::add);
+    residual.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  void cell_cauchy_stress(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                          const TrilinosWrappers::MPI::Vector& u, std::vector<Vector<float>>& components,
+                          Vector<float>& von_mises)
+  {
+    const auto&   fe = dof_handler.get_fe();
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim> fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    const auto    n_cells = dof_handler.get_triangulation().n_active_cells();
+    components.assign(dim * dim, Vector<float>(n_cells));
+    von_mises.reinit(n_cells);
+    std::vector<Tensor<2, dim>> F;
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto& material = material_of(model, cell->material_id());
+        fe_values.reinit(cell);
+        deformation_gradients(fe_values, u, F);
+        Tensor<2, dim> sigma;
+        double         volume = 0;
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          {
+            const auto   st = material.stress_and_tangent(F[q]);
+            const double J  = determinant(F[q]);
+            sigma += (F[q] * Tensor<2, dim>(st.S) * transpose(F[q])) / J * fe_values.JxW(q);
+            volume += fe_values.JxW(q);
+          }
+        sigma /= volume;
+        const auto index = cell->active_cell_index();
+        for (unsigned int a = 0; a < dim; ++a)
+          for (unsigned int b = 0; b < dim; ++b)
+            components[a * dim + b](index) = sigma[a][b];
+        const Tensor<2, dim> dev = sigma - trace(sigma) / 3.0 * unit_symmetric_tensor<dim>();
+        // plane strain (2D): sigma_zz is not tracked; the in-plane deviator is shown
+        von_mises(index) = std::sqrt(1.5 * scalar_product(dev, dev));
+      }
+  }
+
+  template void assemble_solid<2>(const DoFHandler<2>&, const SolidModel<2>&, const TrilinosWrappers::MPI::Vector&,
+                                  const AffineConstraints<double>&, TrilinosWrappers::MPI::Vector&,
+                                  TrilinosWrappers::SparseMatrix*);
+  template void assemble_solid<3>(const DoFHandler<3>&, const SolidModel<3>&, const TrilinosWrappers::MPI::Vector&,
+                                  const AffineConstraints<double>&, TrilinosWrappers::MPI::Vector&,
+                                  TrilinosWrappers::SparseMatrix*);
+  template void cell_cauchy_stress<2>(const DoFHandler<2>&, const SolidModel<2>&,
+                                      const TrilinosWrappers::MPI::Vector&, std::vector<Vector<float>>&,
+                                      Vector<float>&);
+  template void cell_cauchy_stress<3>(const DoFHandler<3>&, const SolidModel<3>&,
+                                      const TrilinosWrappers::MPI::Vector&, std::vector<Vector<float>>&,
+                                      Vector<float>&);
+} // namespace physics

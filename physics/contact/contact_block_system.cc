@@ -1,0 +1,245 @@
+#include "contact/contact_block_system.h"
+
+#include "common/tpetra_bridge.h"
+
+#include <deal.II/base/mpi.h>
+
+#include <Xpetra_MapFactory.hpp>
+#include <Xpetra_MatrixFactory.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <Epetra_CrsMatrix.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace physics::contact
+{
+  using namespace multigrid;
+
+  template <int dim>
+  ContactLinearSystem build_contact_system(MPI_Comm comm, const std::vector<OwnedNode<dim>>& nodes,
+                                           const MortarContact<dim>& contact, const dealii::IndexSet& owned,
+                                           const dealii::IndexSet& ghosts,
+                                           const dealii::TrilinosWrappers::SparseMatrix& K,
+                                           const dealii::TrilinosWrappers::MPI::Vector& residual,
+                                           const RowPieces& rows, const std::map<GlobalIndex, double>& residual_pieces)
+  {
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int n_ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+    const auto&        state = contact.state();
+    const GlobalIndex  n_dofs = owned.size();
+
+    // Class of every owned node; sort by (class, first DOF).
+    auto class_of = [&](const OwnedNode<dim>& node) {
+      if (node.slave_index >= 0)
+        return state.active[node.slave_index] ? NodeClass::active : NodeClass::inactive;
+      if (node.master_surface)
+        return NodeClass::master;
+      return node.slave_body ? NodeClass::inner_slave : NodeClass::inner_master;
+    };
+    std::vector<std::size_t> order(nodes.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      const int ca = static_cast<int>(class_of(nodes[a])), cb = static_cast<int>(class_of(nodes[b]));
+      return ca != cb ? ca < cb : nodes[a].dofs[0] < nodes[b].dofs[0];
+    });
+    std::array<int, 5> local_counts{};
+    for (const auto& node : nodes)
+      ++local_counts[static_cast<int>(class_of(node))];
+    std::vector<int> all_counts(5 * n_ranks);
+    MPI_Allgather(local_counts.data(), 5, MPI_INT, all_counts.data(), 5, MPI_INT, comm);
+
+    ContactLinearSystem result;
+    std::array<GO, 5>   first_of_class{}; // first node id of this rank in class c
+    GO                  offset = 0;
+    for (int c = 0; c < 5; ++c)
+      {
+        long long total = 0;
+        for (unsigned int r = 0; r < n_ranks; ++r)
+          {
+            if (r == rank)
+              first_of_class[c] = offset + total;
+            total += all_counts[5 * r + c];
+          }
+        result.class_sizes[c] = total;
+        offset += total;
+      }
+    const GO n_primal_nodes = offset, n_primal = dim * offset;
+
+    // New global id of every owned DOF, then of the ghosts through a ghosted vector.
+    dealii::TrilinosWrappers::MPI::Vector new_id(owned, comm);
+    std::vector<GO>                       primal_gids;
+    std::vector<std::array<double, dim>>  coordinates;
+    std::vector<GlobalIndex>              primal_assembly;
+    std::array<GO, 5>                     next = first_of_class;
+    std::map<int, LO>                     local_node_of_slave; // slave index -> local primal node
+    for (std::size_t i : order)
+      {
+        const auto& node = nodes[i];
+        const int   c    = static_cast<int>(class_of(node));
+        const GO    id   = next[c]++;
+        if (node.slave_index >= 0)
+          local_node_of_slave[node.slave_index] = static_cast<LO>(primal_gids.size() / dim);
+        for (int d = 0; d < dim; ++d)
+          {
+            new_id[node.dofs[d]] = static_cast<double>(dim * id + d);
+            primal_gids.push_back(dim * id + d);
+            primal_assembly.push_back(node.dofs[d]);
+          }
+        coordinates.push_back(node.position);
+      }
+    new_id.compress(dealii::VectorOperation::insert);
+    dealii::TrilinosWrappers::MPI::Vector new_id_ghosted(owned, ghosts, comm);
+    new_id_ghosted = new_id;
+
+    // Multipliers: inactive then active, rank by rank, slave index order (known everywhere).
+    const unsigned int S = contact.n_slave_nodes();
+    std::vector<GO>    lambda_node(S, -1);
+    {
+      GO next_lambda = 0;
+      for (bool active : {false, true})
+        for (unsigned int r = 0; r < n_ranks; ++r)
+          for (unsigned int j = 0; j < S; ++j)
+            if (contact.slave_nodes()[j].owner == r && state.active[j] == active)
+              lambda_node[j] = next_lambda++;
+    }
+    auto new_gid = [&](GlobalIndex assembly) -> GO {
+      if (assembly >= n_dofs)
+        {
+          const GlobalIndex k = assembly - n_dofs;
+          return n_primal + dim * lambda_node[k / dim] + static_cast<GO>(k % dim);
+        }
+      return static_cast<GO>(new_id_ghosted[assembly]);
+    };
+    std::vector<GO>          dual_gids;
+    std::vector<GlobalIndex> dual_assembly;
+    std::map<LO, LO>         dual_to_primal;
+    {
+      std::vector<unsigned int> mine;
+      for (unsigned int j = 0; j < S; ++j)
+        if (contact.slave_nodes()[j].owner == rank)
+          mine.push_back(j);
+      std::sort(mine.begin(), mine.end(), [&](unsigned int a, unsigned int b) { return lambda_node[a] < lambda_node[b]; });
+      for (unsigned int j : mine)
+        {
+          dual_to_primal[static_cast<LO>(dual_gids.size() / dim)] = local_node_of_slave.at(j);
+          for (int c = 0; c < dim; ++c)
+            {
+              dual_gids.push_back(n_primal + dim * lambda_node[j] + c);
+              dual_assembly.push_back(contact.multiplier_index(j, c));
+            }
+        }
+    }
+
+    // The merged matrix, row by row in the final distribution.
+    std::vector<GO> all_gids(primal_gids);
+    all_gids.insert(all_gids.end(), dual_gids.begin(), dual_gids.end());
+    result.assembly_index = primal_assembly;
+    result.assembly_index.insert(result.assembly_index.end(), dual_assembly.begin(), dual_assembly.end());
+    const GO    n_total = n_primal + dim * static_cast<GO>(S);
+    auto        row_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_total,
+                                                                Teuchos::ArrayView<const GO>(all_gids), 0,
+                                                                teuchos_comm(comm));
+    const Epetra_CrsMatrix& E = K.trilinos_matrix();
+    auto                    A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, E.MaxNumEntries() + 27);
+    auto                    b = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(row_map, 1, true);
+    auto                    b_data = b->getDataNonConst(0);
+    std::vector<double>     values(E.MaxNumEntries());
+    std::vector<int>        columns(E.MaxNumEntries());
+    for (std::size_t i = 0; i < all_gids.size(); ++i)
+      {
+        const GlobalIndex          row = result.assembly_index[i];
+        std::map<GO, double>       entries;
+        double                     r = 0;
+        if (row < n_dofs)
+          {
+            int       n     = 0;
+            const int local = E.RowMap().LID(static_cast<int>(row));
+            E.ExtractMyRowCopy(local, static_cast<int>(values.size()), n, values.data(), columns.data());
+            for (int k = 0; k < n; ++k)
+              entries[new_gid(static_cast<GlobalIndex>(E.ColMap().GID(columns[k])))] += values[k];
+            r = residual[row];
+          }
+        if (const auto it = rows.find(row); it != rows.end())
+          for (const auto& [col, value] : it->second)
+            entries[new_gid(col)] += value;
+        if (const auto it = residual_pieces.find(row); it != residual_pieces.end())
+          r += it->second;
+        b_data[i] = -r;
+        std::vector<GO> cols;
+        std::vector<SC> vals;
+        for (const auto& [c, v] : entries)
+          {
+            cols.push_back(c);
+            vals.push_back(v);
+          }
+        A->insertGlobalValues(all_gids[i], cols, vals);
+      }
+    A->fillComplete();
+
+    std::vector<BlockInfo> blocks(2);
+    blocks[0].name          = "displacement";
+    blocks[0].dofs_per_node = dim;
+    blocks[0].global_size   = n_primal;
+    blocks[1].name          = "lagrange multiplier";
+    blocks[1].dofs_per_node = dim;
+    blocks[1].global_size   = dim * static_cast<GO>(S);
+    result.system           = BlockSystem::from_merged(teuchos_comm(comm), blocks, {primal_gids, dual_gids}, A, b);
+
+    std::vector<double> flat;
+    for (const auto& x : coordinates)
+      flat.insert(flat.end(), x.begin(), x.end());
+    result.system.block(0).nullspace = rigid_body_modes(result.system.block(0).map, dim, flat);
+    {
+      std::vector<GO> node_gids;
+      for (std::size_t i = 0; i < primal_gids.size(); i += dim)
+        node_gids.push_back(primal_gids[i] / dim);
+      auto node_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_primal_nodes,
+                                                            Teuchos::ArrayView<const GO>(node_gids), 0,
+                                                            teuchos_comm(comm));
+      auto xyz      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(node_map, dim);
+      for (int d = 0; d < dim; ++d)
+        {
+          auto data = xyz->getDataNonConst(d);
+          for (std::size_t i = 0; i < coordinates.size(); ++i)
+            data[i] = coordinates[i][d];
+        }
+      result.system.block(0).coordinates = xyz;
+    }
+
+    // Interface data for the saddle-point AMG.
+    InterfaceInfo   info;
+    std::vector<GO> interface_dofs, slave_body, master_body;
+    for (const auto& [dual, primal] : dual_to_primal)
+      for (int d = 0; d < dim; ++d)
+        interface_dofs.push_back(primal_gids[dim * primal + d]);
+    const GO first_slave_gid = dim * (result.class_sizes[0] + result.class_sizes[1]);
+    for (GO g : primal_gids)
+      (g >= first_slave_gid ? slave_body : master_body).push_back(g);
+    const auto invalid   = Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid();
+    auto       build_map = [&](const std::vector<GO>& gids) {
+      return Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, invalid, Teuchos::ArrayView<const GO>(gids), 0,
+                                                   teuchos_comm(comm));
+    };
+    info.dual_to_primal_node   = dual_to_primal;
+    info.primal_interface_dofs = build_map(interface_dofs);
+    info.segregation_dofs      = build_map(slave_body);
+    info.slave_dofs            = info.segregation_dofs;
+    info.master_dofs           = build_map(master_body);
+    result.system.set_interface(std::move(info));
+    result.system.validate("contact Newton system");
+    return result;
+  }
+
+  template ContactLinearSystem build_contact_system<2>(MPI_Comm, const std::vector<OwnedNode<2>>&,
+                                                       const MortarContact<2>&, const dealii::IndexSet&,
+                                                       const dealii::IndexSet&, const dealii::TrilinosWrappers::SparseMatrix&,
+                                                       const dealii::TrilinosWrappers::MPI::Vector&, const RowPieces&,
+                                                       const std::map<GlobalIndex, double>&);
+  template ContactLinearSystem build_contact_system<3>(MPI_Comm, const std::vector<OwnedNode<3>>&,
+                                                       const MortarContact<3>&, const dealii::IndexSet&,
+                                                       const dealii::IndexSet&, const dealii::TrilinosWrappers::SparseMatrix&,
+                                                       const dealii::TrilinosWrappers::MPI::Vector&, const RowPieces&,
+                                                       const std::map<GlobalIndex, double>&);
+} // namespace physics::contact

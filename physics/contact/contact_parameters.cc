@@ -1,0 +1,202 @@
+// The contact app's parameter file: declarations (with documentation, shown by --help and
+// --print-parameters) and range checks with one-line errors naming the parameter.
+#include "contact/contact_problem.h"
+
+#include <deal.II/base/utilities.h>
+
+#include <stdexcept>
+
+namespace physics::contact
+{
+  using dealii::Patterns::Anything;
+  using dealii::Patterns::Bool;
+  using dealii::Patterns::Double;
+  using dealii::Patterns::Integer;
+  using dealii::Patterns::Selection;
+
+  void ContactParameters::declare(dealii::ParameterHandler& prm)
+  {
+    prm.enter_subsection("Mesh");
+    prm.declare_entry("Mesh file", "meshes/two_blocks_2d.geo", Anything(),
+                      "gmsh .geo source (meshed on the fly with -setnumber refine N) or .msh file, relative to the "
+                      "working directory. Physical volumes (2D: surfaces) give the bodies, physical surfaces (2D: "
+                      "lines) the boundary ids below. Quadrilaterals/hexahedra.");
+    prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension of the mesh.");
+    prm.declare_entry("Gmsh refinement", "1", Integer(1, 64), "Value of the .geo variable 'refine'.");
+    prm.declare_entry("Global refinements", "0", Integer(0, 8), "Uniform refinements after reading the mesh.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary ids");
+    prm.declare_entry("Slave boundary id", "1", Integer(0, 255), "Contact surface carrying the multipliers.");
+    prm.declare_entry("Master boundary id", "2", Integer(0, 255), "Opposite contact surface.");
+    prm.declare_entry("Clamped boundary id", "3", Integer(-1, 255), "All displacement components zero (-1: none).");
+    prm.declare_entry("Loaded boundary id", "4", Integer(0, 255),
+                      "Face with the prescribed displacement or the pressure.");
+    prm.declare_entry("Symmetry", "", Anything(),
+                      "Roller conditions: comma-separated pairs 'id:component' (component 0=x, 1=y, 2=z), e.g. "
+                      "'5:0, 6:1'. Empty: none.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Material");
+    prm.declare_entry("Law", "NeoHooke", Selection("NeoHooke|SaintVenantKirchhoff"),
+                      "Hyperelastic law of both bodies (2D: plane strain).");
+    prm.declare_entry("Young's modulus", "10e6", Double(), "E in Pa (> 0).");
+    prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu (-1 < nu < 0.5).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    prm.declare_entry("Type", "displacement", Selection("displacement|pressure"),
+                      "Prescribed displacement of the loaded face, or a dead nominal pressure on it.");
+    prm.declare_entry("Displacement", "0, -0.02", Anything(),
+                      "Total prescribed displacement of the loaded face (dim comma-separated values, m).");
+    prm.declare_entry("Pressure", "0", Double(), "Total nominal pressure (Pa, >= 0) for Type = pressure.");
+    prm.declare_entry("Load steps", "4", Integer(1, 100000), "Equal quasi-static load increments.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Multipliers", "dual", Selection("dual|standard"),
+                      "Lagrange multiplier shape functions (dual: D diagonal).");
+    prm.declare_entry("Complementarity factor", "1", Double(),
+                      "c_n = factor * E / h in the complementarity function (> 0).");
+    prm.declare_entry("Search radius factor", "0.5", Double(),
+                      "Face bounding boxes are enlarged by this times the face size (>= 0).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Newton");
+    prm.declare_entry("Relative tolerance", "1e-8", Double(), "||r|| / ||r_0|| per load step (0 < tol < 1).");
+    prm.declare_entry("Absolute tolerance", "1e-12", Double(), "||r|| below this also counts as converged (>= 0).");
+    prm.declare_entry("Maximum iterations", "30", Integer(1, 1000), "Newton steps per load step.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Linear solver");
+    prm.declare_entry("Preset", "emin(cheapsimple)", Anything(),
+                      "Preconditioner preset of multigrid/presets (solve_block_system --list-presets).");
+    prm.declare_entry("Overrides", "", Anything(),
+                      "Semicolon-separated PATH=VALUE changes of the preset, e.g. "
+                      "'template parameters/MIN_AGG_SIZE=6'.");
+    prm.declare_entry("Tolerance", "1e-8", Double(), "GMRES relative residual (0 < tol < 1).");
+    prm.declare_entry("Maximum iterations", "500", Integer(1, 100000), "GMRES iterations.");
+    prm.declare_entry("Restart", "100", Integer(1, 10000), "GMRES restart length.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    prm.declare_entry("Directory", "output/contact", Anything(),
+                      "Run log (run_log.jsonl), VTK (solution.pvd + pvtu per load step), exported systems.");
+    prm.declare_entry("VTK", "true", Bool(), "Write solution_NNN.pvtu per load step and solution.pvd.");
+    prm.declare_entry("Export systems", "false", Bool(),
+                      "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN (for "
+                      "solve_block_system --system).");
+    prm.leave_subsection();
+  }
+
+  namespace
+  {
+    double positive(double v, const std::string& name)
+    {
+      if (!(v > 0))
+        throw std::invalid_argument("parameter '" + name + "': expected a positive value, got " + std::to_string(v));
+      return v;
+    }
+  } // namespace
+
+  void ContactParameters::parse(dealii::ParameterHandler& prm)
+  {
+    prm.enter_subsection("Mesh");
+    mesh_file          = prm.get("Mesh file");
+    dimension          = prm.get_integer("Dimension");
+    gmsh_refinement    = prm.get_integer("Gmsh refinement");
+    global_refinements = prm.get_integer("Global refinements");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary ids");
+    slave_id   = prm.get_integer("Slave boundary id");
+    master_id  = prm.get_integer("Master boundary id");
+    clamped_id = prm.get_integer("Clamped boundary id");
+    loaded_id  = prm.get_integer("Loaded boundary id");
+    symmetry.clear();
+    for (const auto& item : dealii::Utilities::split_string_list(prm.get("Symmetry"), ','))
+      {
+        const auto parts = dealii::Utilities::split_string_list(item, ':');
+        try
+          {
+            if (parts.size() != 2)
+              throw std::invalid_argument("");
+            const int id = std::stoi(parts[0]), c = std::stoi(parts[1]);
+            if (id < 0 || id > 255 || c < 0 || c >= dimension)
+              throw std::invalid_argument("");
+            symmetry.push_back(id);
+            symmetry.push_back(c);
+          }
+        catch (const std::exception&)
+          {
+            throw std::invalid_argument("parameter 'Symmetry': expected 'id:component' pairs with component < " +
+                                        std::to_string(dimension) + ", got '" + item + "'");
+          }
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Material");
+    law            = prm.get("Law");
+    youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus");
+    poisson_ratio  = prm.get_double("Poisson's ratio");
+    if (!(poisson_ratio > -1 && poisson_ratio < 0.5))
+      throw std::invalid_argument("parameter 'Poisson's ratio': expected -1 < nu < 0.5, got " +
+                                  std::to_string(poisson_ratio));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    load_type = prm.get("Type");
+    displacement.clear();
+    for (const auto& s : dealii::Utilities::split_string_list(prm.get("Displacement"), ','))
+      {
+        try
+          {
+            displacement.push_back(std::stod(s));
+          }
+        catch (const std::exception&)
+          {
+            throw std::invalid_argument("parameter 'Displacement': '" + s + "' is not a number");
+          }
+      }
+    if (static_cast<int>(displacement.size()) != dimension)
+      throw std::invalid_argument("parameter 'Displacement': expected " + std::to_string(dimension) +
+                                  " components, got " + std::to_string(displacement.size()));
+    pressure = prm.get_double("Pressure");
+    if (pressure < 0)
+      throw std::invalid_argument("parameter 'Pressure': expected a value >= 0, got " + std::to_string(pressure));
+    load_steps = prm.get_integer("Load steps");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Contact");
+    dual                   = prm.get("Multipliers") == "dual";
+    complementarity_factor = positive(prm.get_double("Complementarity factor"), "Complementarity factor");
+    search_radius_factor   = prm.get_double("Search radius factor");
+    if (search_radius_factor < 0)
+      throw std::invalid_argument("parameter 'Search radius factor': expected a value >= 0");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Newton");
+    newton_relative_tolerance = prm.get_double("Relative tolerance");
+    if (!(newton_relative_tolerance > 0 && newton_relative_tolerance < 1))
+      throw std::invalid_argument("parameter 'Relative tolerance' (Newton): expected 0 < tol < 1");
+    newton_absolute_tolerance = prm.get_double("Absolute tolerance");
+    newton_max_iterations     = prm.get_integer("Maximum iterations");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Linear solver");
+    preset    = prm.get("Preset");
+    overrides = dealii::Utilities::split_string_list(prm.get("Overrides"), ';');
+    linear_tolerance = prm.get_double("Tolerance");
+    if (!(linear_tolerance > 0 && linear_tolerance < 1))
+      throw std::invalid_argument("parameter 'Tolerance' (Linear solver): expected 0 < tol < 1");
+    linear_max_iterations = prm.get_integer("Maximum iterations");
+    restart               = prm.get_integer("Restart");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    output_directory = prm.get("Directory");
+    vtk              = prm.get_bool("VTK");
+    export_systems   = prm.get_bool("Export systems");
+    prm.leave_subsection();
+  }
+} // namespace physics::contact

@@ -1,0 +1,494 @@
+#include "contact/contact_problem.h"
+
+#include "common/mesh_input.h"
+#include "common/run_output.h"
+#include "common/solid_mechanics.h"
+#include "contact/contact_block_system.h"
+
+#include "block_preconditioner.h"
+#include "block_system_io.h"
+#include "krylov_solver.h"
+#include "presets.h"
+
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <set>
+
+namespace physics::contact
+{
+  using namespace dealii;
+
+  namespace
+  {
+    template <int dim>
+    class ContactProblem
+    {
+    public:
+      ContactProblem(const ContactParameters& p, MPI_Comm comm);
+      ContactRunSummary run();
+
+    private:
+      void setup();
+      void set_prescribed_values(double load_factor);
+      std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
+      void write_output(int step, double time);
+
+      const ContactParameters& p_;
+      MPI_Comm                 comm_;
+      const unsigned int       rank_;
+      ConditionalOStream       pcout_;
+
+      parallel::shared::Triangulation<dim> tria_;
+      FESystem<dim>                        fe_;
+      DoFHandler<dim>                      dof_handler_;
+      IndexSet                             owned_, relevant_, ghosts_;
+      std::vector<IndexSet>                owned_per_rank_;
+      AffineConstraints<double>            constraints_;
+      DynamicSparsityPattern               structural_pattern_;
+      SolidModel<dim>                      model_;
+      std::unique_ptr<MortarContact<dim>>  contact_;
+      std::vector<OwnedNode<dim>>          owned_nodes_;
+
+      TrilinosWrappers::MPI::Vector u_, u_ghosted_;
+      std::vector<double>           lambda_;
+      JsonLinesLog                  log_;
+      std::unique_ptr<PvdSeries>    pvd_;
+    };
+
+    template <int dim>
+    ContactProblem<dim>::ContactProblem(const ContactParameters& p, MPI_Comm comm)
+        : p_(p)
+        , comm_(comm)
+        , rank_(Utilities::MPI::this_mpi_process(comm))
+        , pcout_(std::cout, rank_ == 0)
+        , tria_(comm, Triangulation<dim>::none, false, parallel::shared::Triangulation<dim>::partition_metis)
+        , fe_(FE_Q<dim>(1), dim)
+        , dof_handler_(tria_)
+    {
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::setup()
+    {
+      std::filesystem::create_directories(p_.output_directory);
+      read_mesh(p_.mesh_file, p_.gmsh_refinement, p_.output_directory, tria_, comm_);
+      tria_.refine_global(p_.global_refinements);
+
+      // Every id the parameters name must exist in the mesh.
+      std::set<types::boundary_id> ids;
+      for (const auto& cell : tria_.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            ids.insert(cell->face(f)->boundary_id());
+      auto require = [&](int id, const std::string& parameter) {
+        if (!ids.count(static_cast<types::boundary_id>(id)))
+          throw std::invalid_argument(p_.mesh_file + ": no boundary faces with id " + std::to_string(id) +
+                                      " (parameter '" + parameter + "')");
+      };
+      require(p_.slave_id, "Slave boundary id");
+      require(p_.master_id, "Master boundary id");
+      if (p_.clamped_id >= 0)
+        require(p_.clamped_id, "Clamped boundary id");
+      require(p_.loaded_id, "Loaded boundary id");
+      for (std::size_t i = 0; i < p_.symmetry.size(); i += 2)
+        require(p_.symmetry[i], "Symmetry");
+
+      dof_handler_.distribute_dofs(fe_);
+      owned_ = dof_handler_.locally_owned_dofs();
+      DoFTools::extract_locally_relevant_dofs(dof_handler_, relevant_);
+      owned_per_rank_ = Utilities::MPI::all_gather(comm_, owned_);
+
+      ContactSettings settings;
+      settings.slave_boundary       = p_.slave_id;
+      settings.master_boundary      = p_.master_id;
+      settings.dual                 = p_.dual;
+      settings.search_radius_factor = p_.search_radius_factor;
+      contact_ = std::make_unique<MortarContact<dim>>(dof_handler_, settings);
+      settings.complementarity_parameter =
+          p_.complementarity_factor * p_.youngs_modulus / contact_->minimal_slave_face_size();
+      contact_ = std::make_unique<MortarContact<dim>>(dof_handler_, settings);
+
+      ghosts_ = relevant_;
+      {
+        const auto surface = contact_->surface_dofs();
+        IndexSet   s(dof_handler_.n_dofs());
+        s.add_indices(surface.begin(), surface.end());
+        ghosts_.add_indices(s);
+      }
+
+      // Bodies: the material id next to the slave faces is the slave body.
+      std::set<types::material_id> slave_materials, master_materials;
+      for (const auto& cell : tria_.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            {
+              if (cell->face(f)->boundary_id() == p_.slave_id)
+                slave_materials.insert(cell->material_id());
+              if (cell->face(f)->boundary_id() == p_.master_id)
+                master_materials.insert(cell->material_id());
+            }
+      for (auto m : slave_materials)
+        if (master_materials.count(m))
+          throw std::invalid_argument(p_.mesh_file + ": slave and master faces lie on the same body (material id " +
+                                      std::to_string(m) + "); expected two bodies with their own physical volumes");
+
+      // Locally owned nodes with body and surface membership.
+      std::map<GlobalIndex, int> slave_of_dof;
+      std::set<GlobalIndex>      master_dofs;
+      for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
+        slave_of_dof[contact_->slave_nodes()[j].dofs[0]] = j;
+      for (const auto& node : contact_->master_nodes())
+        master_dofs.insert(node.dofs[0]);
+      std::map<GlobalIndex, OwnedNode<dim>> nodes;
+      for (const auto& cell : dof_handler_.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            const GlobalIndex dof0 = cell->vertex_dof_index(v, 0);
+            if (!owned_.is_element(dof0))
+              continue;
+            const bool slave_body = slave_materials.count(cell->material_id()) > 0;
+            auto       it         = nodes.find(dof0);
+            if (it != nodes.end())
+              {
+                if (it->second.slave_body != slave_body)
+                  throw std::invalid_argument(p_.mesh_file + ": the two bodies share a node at " +
+                                              std::to_string(cell->vertex(v)[0]) + ", ...; mesh them separately");
+                continue;
+              }
+            OwnedNode<dim> node;
+            for (unsigned int d = 0; d < dim; ++d)
+              node.dofs[d] = cell->vertex_dof_index(v, d);
+            node.slave_body     = slave_body;
+            node.master_surface = master_dofs.count(dof0) > 0;
+            if (const auto s = slave_of_dof.find(dof0); s != slave_of_dof.end())
+              node.slave_index = s->second;
+            nodes.emplace(dof0, node);
+          }
+      for (auto& [dof, node] : nodes)
+        owned_nodes_.push_back(node);
+
+      // Homogeneous constraints of the Newton update: clamped, loaded (displacement control),
+      // symmetry planes (one component).
+      constraints_.clear();
+      constraints_.reinit(relevant_);
+      const Functions::ZeroFunction<dim> zero(dim);
+      if (p_.clamped_id >= 0)
+        VectorTools::interpolate_boundary_values(dof_handler_, p_.clamped_id, zero, constraints_);
+      if (p_.load_type == "displacement")
+        VectorTools::interpolate_boundary_values(dof_handler_, p_.loaded_id, zero, constraints_);
+      for (std::size_t i = 0; i < p_.symmetry.size(); i += 2)
+        VectorTools::interpolate_boundary_values(dof_handler_, p_.symmetry[i], zero, constraints_,
+                                                 fe_.component_mask(FEValuesExtractors::Scalar(p_.symmetry[i + 1])));
+      constraints_.close();
+
+      structural_pattern_.reinit(relevant_.size(), relevant_.size(), relevant_);
+      DoFTools::make_sparsity_pattern(dof_handler_, structural_pattern_, constraints_, false);
+      SparsityTools::distribute_sparsity_pattern(structural_pattern_, owned_, comm_, relevant_);
+
+      const auto lame    = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
+      std::shared_ptr<const HyperelasticMaterial<dim>> law = make_material<dim>(p_.law, lame);
+      for (const auto& cell : tria_.active_cell_iterators())
+        model_.materials[cell->material_id()] = law;
+      u_.reinit(owned_, comm_);
+      u_ghosted_.reinit(owned_, ghosts_, comm_);
+      lambda_.assign(dim * contact_->n_slave_nodes(), 0.0);
+
+      if (rank_ == 0)
+        log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
+      pvd_ = std::make_unique<PvdSeries>(p_.output_directory + "/solution.pvd");
+      pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells, "
+             << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_slave_nodes()
+             << " multipliers (" << (p_.dual ? "dual" : "standard") << "), " << Utilities::MPI::n_mpi_processes(comm_)
+             << " ranks, preset " << p_.preset << "\n";
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::set_prescribed_values(double load_factor)
+    {
+      if (p_.load_type == "displacement")
+        {
+          Vector<double> value(dim);
+          for (unsigned int d = 0; d < dim; ++d)
+            value[d] = load_factor * p_.displacement[d];
+          std::map<types::global_dof_index, double> values;
+          VectorTools::interpolate_boundary_values(dof_handler_, p_.loaded_id,
+                                                   Functions::ConstantFunction<dim>(value), values);
+          for (const auto& [dof, v] : values)
+            if (owned_.is_element(dof))
+              u_[dof] = v;
+          u_.compress(VectorOperation::insert);
+        }
+      else
+        {
+          model_.tractions.clear();
+          // A dead nominal pressure: traction -p N0 with N0 the reference outward normal. The
+          // loaded face must be flat: its normal is taken from the first face found.
+          for (const auto& cell : tria_.active_cell_iterators())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == p_.loaded_id &&
+                  model_.tractions.empty())
+                {
+                  Tensor<1, dim> n = cell->face(f)->center() - cell->center();
+                  // project onto the face normal: for axis-aligned boxes the dominant axis
+                  unsigned int axis = 0;
+                  for (unsigned int d = 1; d < dim; ++d)
+                    if (std::abs(n[d]) > std::abs(n[axis]))
+                      axis = d;
+                  Tensor<1, dim> t;
+                  t[axis] = -(n[axis] > 0 ? 1.0 : -1.0) * load_factor * p_.pressure;
+                  model_.tractions[p_.loaded_id] = t;
+                }
+        }
+    }
+
+    template <int dim>
+    std::vector<std::array<double, dim>> ContactProblem<dim>::positions(const std::vector<SurfaceNode<dim>>& nodes) const
+    {
+      std::vector<std::array<double, dim>> x(nodes.size());
+      for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (unsigned int d = 0; d < dim; ++d)
+          x[i][d] = nodes[i].reference[d] + u_ghosted_[nodes[i].dofs[d]];
+      return x;
+    }
+
+    template <int dim>
+    ContactRunSummary ContactProblem<dim>::run()
+    {
+      setup();
+      ContactRunSummary summary;
+      auto              owner = [&](GlobalIndex row) -> unsigned int {
+        if (row >= dof_handler_.n_dofs())
+          return contact_->slave_nodes()[(row - dof_handler_.n_dofs()) / dim].owner;
+        for (unsigned int r = 0; r < owned_per_rank_.size(); ++r)
+          if (owned_per_rank_[r].is_element(row))
+            return r;
+        return 0;
+      };
+      auto is_constrained = [&](GlobalIndex dof) { return constraints_.is_constrained(dof); };
+
+      multigrid::Preset preset = multigrid::load_preset(p_.preset);
+      multigrid::apply_overrides(preset, p_.overrides);
+      multigrid::SolveOptions options;
+      options.tolerance      = p_.linear_tolerance;
+      options.max_iterations = p_.linear_max_iterations;
+      options.restart        = p_.restart;
+
+      TrilinosWrappers::SparseMatrix K;
+      TrilinosWrappers::MPI::Vector  residual(owned_, comm_), du(owned_, comm_);
+      pcout_ << "  step newton   |residual|     |r_u|      |r_lambda|   active  changed  GMRES  setup[s] solve[s]\n";
+      for (int step = 1; step <= p_.load_steps; ++step)
+        {
+          const double load_factor = static_cast<double>(step) / p_.load_steps;
+          set_prescribed_values(load_factor);
+          double            r0 = 0;
+          std::vector<bool> previous_active;
+          bool              converged = false;
+          summary.residuals.emplace_back();
+          for (int it = 0; it <= p_.newton_max_iterations; ++it)
+            {
+              u_ghosted_ = u_;
+              ContactContribution contribution;
+              contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), lambda_,
+                                 is_constrained, comm_, contribution);
+              const auto& state = contact_->state();
+              int         n_active = 0, n_changed = 0;
+              for (unsigned int j = 0; j < state.active.size(); ++j)
+                {
+                  n_active += state.active[j];
+                  n_changed += !previous_active.empty() && previous_active[j] != state.active[j];
+                }
+              const bool set_changed = previous_active.empty() || n_changed > 0;
+              previous_active        = state.active;
+
+              K.reinit(owned_, owned_, structural_pattern_, comm_);
+              residual = 0;
+              assemble_solid(dof_handler_, model_, u_ghosted_, constraints_, residual, &K);
+              const auto rows = send_rows_to_owners(contribution.matrix, owner, comm_);
+              std::map<GlobalIndex, double> pieces = contribution.residual;
+              for (const auto& [row, value] : contribution.constraint_residual)
+                pieces[row] += value;
+              pieces = send_entries_to_owners(pieces, owner, comm_);
+              auto linear = build_contact_system<dim>(comm_, owned_nodes_, *contact_, owned_, ghosts_, K, residual,
+                                                      rows, pieces);
+              const auto block_norms = linear.system.block_norms(*linear.system.rhs());
+              const double norm = std::hypot(block_norms[0], block_norms[1]);
+              if (it == 0)
+                r0 = norm;
+              summary.residuals.back().push_back(norm);
+              summary.active_set_sizes.push_back(n_active);
+              converged = it > 0 && !set_changed &&
+                          (norm <= p_.newton_relative_tolerance * r0 || norm <= p_.newton_absolute_tolerance);
+
+              JsonLinesLog::Line line;
+              line.add("load_step", step).add("load_factor", load_factor).add("newton", it).add("residual", norm)
+                  .add("relative_residual", r0 > 0 ? norm / r0 : 0.0).add("residual_displacement", block_norms[0])
+                  .add("residual_constraint", block_norms[1]).add("active", n_active).add("active_changed", n_changed)
+                  .add("converged", converged);
+              pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
+                     << std::setw(13) << norm << std::setw(12) << block_norms[0] << std::setw(12) << block_norms[1]
+                     << std::defaultfloat << std::setw(8) << n_active << std::setw(9) << n_changed;
+              if (converged || it == p_.newton_max_iterations)
+                {
+                  pcout_ << "\n";
+                  log_.write(line);
+                  break;
+                }
+
+              if (p_.export_systems)
+                multigrid::write_block_system(linear.system, p_.output_directory + "/systems/step" +
+                                                                 std::to_string(step) + "-newton" + std::to_string(it));
+              multigrid::BlockPreconditioner preconditioner(linear.system, preset);
+              auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
+                  linear.system.full_map(), 1, true);
+              const auto report = multigrid::solve(linear.system, preconditioner, *x, options);
+              summary.linear_iterations.push_back(report.iterations);
+              summary.setup_seconds += report.preconditioner.setup_seconds;
+              summary.linear_seconds += report.solve_seconds;
+              line.add("linear_iterations", report.iterations).add("linear_converged", report.converged)
+                  .add("linear_relative_residual", report.relative_residual)
+                  .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
+                  .add("global_size", static_cast<long long>(report.global_size));
+              log_.write(line);
+              pcout_ << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
+                     << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
+                     << (report.converged ? "" : "  (GMRES not converged)") << "\n";
+
+              // Update u and lambda from the solution (assembly numbering).
+              const auto          data = x->getData(0);
+              std::vector<double> dlambda(lambda_.size(), 0.0);
+              du = 0;
+              for (std::size_t i = 0; i < linear.assembly_index.size(); ++i)
+                {
+                  const GlobalIndex a = linear.assembly_index[i];
+                  if (a < dof_handler_.n_dofs())
+                    du[a] = data[i];
+                  else
+                    dlambda[a - dof_handler_.n_dofs()] = data[i];
+                }
+              du.compress(VectorOperation::insert);
+              u_ += du;
+              MPI_Allreduce(MPI_IN_PLACE, dlambda.data(), static_cast<int>(dlambda.size()), MPI_DOUBLE, MPI_SUM, comm_);
+              for (std::size_t k = 0; k < lambda_.size(); ++k)
+                lambda_[k] += dlambda[k];
+            }
+          summary.newton_iterations.push_back(static_cast<int>(summary.residuals.back().size()) - 1);
+          summary.load_steps_done = step;
+          if (p_.vtk)
+            write_output(step, load_factor);
+          if (!converged)
+            {
+              summary.converged = false;
+              pcout_ << "Newton did not converge in load step " << step << "\n";
+              break;
+            }
+        }
+
+      // Final slave-side state for the caller.
+      u_ghosted_ = u_;
+      const auto& state = contact_->state();
+      const auto  xs    = positions(contact_->slave_nodes());
+      for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
+        {
+          std::array<double, 3> x{0, 0, 0};
+          for (unsigned int d = 0; d < dim; ++d)
+            x[d] = xs[j][d];
+          summary.slave_positions.push_back(x);
+          double ln = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            ln += contact_->normal(j)[d] * lambda_[dim * j + d];
+          summary.normal_pressure.push_back(ln);
+        }
+      summary.weight = state.weight;
+      summary.active = state.active;
+      summary.max_displacement = u_.linfty_norm();
+      summary.displacement_l2  = u_.l2_norm();
+      return summary;
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::write_output(int step, double time)
+    {
+      u_ghosted_ = u_;
+      // Nodal contact fields on the slave nodes, stored in vectors of the displacement layout:
+      // the multiplier vector, and (pressure, active flag, normalized gap) as separate scalars.
+      TrilinosWrappers::MPI::Vector multiplier(owned_, comm_), fields(owned_, comm_);
+      const auto&                   state = contact_->state();
+      for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
+        {
+          const auto& node = contact_->slave_nodes()[j];
+          if (!owned_.is_element(node.dofs[0]))
+            continue;
+          for (unsigned int d = 0; d < dim; ++d)
+            multiplier[node.dofs[d]] = lambda_[dim * j + d];
+          fields[node.dofs[0]] = state.normal_pressure[j];
+          fields[node.dofs[1]] = state.active[j] ? 1.0 : 0.0;
+          if (dim == 3)
+            fields[node.dofs[dim - 1]] = state.weight[j] > 0 ? state.weighted_gap[j] / state.weight[j] : 0.0;
+        }
+      multiplier.compress(VectorOperation::insert);
+      fields.compress(VectorOperation::insert);
+      TrilinosWrappers::MPI::Vector multiplier_g(owned_, relevant_, comm_), fields_g(owned_, relevant_, comm_),
+          u_g(owned_, relevant_, comm_);
+      multiplier_g = multiplier;
+      fields_g     = fields;
+      u_g          = u_;
+
+      std::vector<Vector<float>> sigma;
+      Vector<float>              von_mises, partition(tria_.n_active_cells());
+      cell_cauchy_stress(dof_handler_, model_, u_g, sigma, von_mises);
+      for (const auto& cell : tria_.active_cell_iterators())
+        partition(cell->active_cell_index()) = cell->subdomain_id();
+
+      DataOut<dim> out;
+      out.attach_dof_handler(dof_handler_);
+      const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector_field(
+          dim, DataComponentInterpretation::component_is_part_of_vector);
+      out.add_data_vector(u_g, std::vector<std::string>(dim, "displacement"), DataOut<dim>::type_dof_data, vector_field);
+      out.add_data_vector(multiplier_g, std::vector<std::string>(dim, "contact_multiplier"),
+                          DataOut<dim>::type_dof_data, vector_field);
+      std::vector<std::string> names = {"contact_pressure", "active"};
+      if (dim == 3)
+        names.push_back("normal_gap");
+      out.add_data_vector(fields_g, names, DataOut<dim>::type_dof_data,
+                          std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+                              dim, DataComponentInterpretation::component_is_scalar));
+      const char* axes = "xyz";
+      for (unsigned int a = 0; a < dim; ++a)
+        for (unsigned int b = a; b < dim; ++b)
+          out.add_data_vector(sigma[a * dim + b], std::string("cauchy_stress_") + axes[a] + axes[b],
+                              DataOut<dim>::type_cell_data);
+      out.add_data_vector(von_mises, "von_mises", DataOut<dim>::type_cell_data);
+      out.add_data_vector(partition, "partition", DataOut<dim>::type_cell_data);
+      // Only the locally owned cells (parallel::shared: every rank has all cells).
+      out.set_cell_selection([](const typename Triangulation<dim>::cell_iterator& cell) {
+        return cell->is_active() && cell->is_locally_owned();
+      });
+      out.build_patches();
+      const std::string pvtu = out.write_vtu_with_pvtu_record(p_.output_directory + "/", "solution", step, comm_, 4);
+      if (rank_ == 0)
+        pvd_->add(time, pvtu);
+    }
+  } // namespace
+
+  ContactRunSummary run_contact(const ContactParameters& parameters, MPI_Comm comm)
+  {
+    if (parameters.dimension == 2)
+      return ContactProblem<2>(parameters, comm).run();
+    return ContactProblem<3>(parameters, comm).run();
+  }
+} // namespace physics::contact

@@ -1,0 +1,79 @@
+// Quasi-static frictionless mortar contact of two hyperelastic bodies (2D plane strain or 3D):
+// mesh from gmsh, load stepping, semi-smooth Newton with the contact active set updated inside
+// the Newton loop, each linear system solved by GMRES with a block-AMG preset of multigrid/.
+#pragma once
+
+#include "contact/mortar_contact.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace physics::contact
+{
+  struct ContactParameters
+  {
+    // Mesh
+    std::string mesh_file;               ///< .geo (meshed with gmsh) or .msh
+    int         gmsh_refinement    = 1;  ///< passed to gmsh as -setnumber refine N (.geo only)
+    int         global_refinements = 0;  ///< deal.II refinements after reading
+    int         dimension          = 2;
+    // Boundary and material ids
+    int              slave_id = 1, master_id = 2, clamped_id = 3, loaded_id = 4;
+    std::vector<int> symmetry; ///< pairs (boundary id, component) with zero normal displacement
+    // Material (both bodies)
+    std::string law           = "NeoHooke";
+    double      youngs_modulus = 10e6, poisson_ratio = 0.3;
+    // Loading
+    std::string         load_type = "displacement"; ///< displacement | pressure
+    std::vector<double> displacement{0.0, -0.02};   ///< total prescribed displacement of the loaded face
+    double              pressure = 0.0;             ///< total nominal pressure on the loaded face
+    int                 load_steps = 4;
+    // Contact
+    bool   dual                   = true;
+    double complementarity_factor = 1.0; ///< c_n = factor * E / h
+    double search_radius_factor   = 0.5;
+    // Newton
+    double newton_relative_tolerance = 1e-8, newton_absolute_tolerance = 1e-12;
+    int    newton_max_iterations     = 30;
+    // Linear solver
+    std::string              preset = "emin(cheapsimple)";
+    std::vector<std::string> overrides;
+    double                   linear_tolerance = 1e-8;
+    int                      linear_max_iterations = 500, restart = 100;
+    // Output
+    std::string output_directory = "output/contact";
+    bool        vtk = true, export_systems = false;
+
+    static void declare(dealii::ParameterHandler& prm);
+    /// Reads and checks every value; throws std::invalid_argument "parameter 'X': ..." for values
+    /// out of range.
+    void parse(dealii::ParameterHandler& prm);
+  };
+
+  /// What a run measured (for tests and the final summary).
+  struct ContactRunSummary
+  {
+    int                 load_steps_done = 0;
+    std::vector<int>    newton_iterations;           ///< per load step
+    std::vector<int>    linear_iterations;           ///< per Newton step, all steps
+    std::vector<std::vector<double>> residuals;      ///< per load step: residual norm per Newton step
+    std::vector<int>    active_set_sizes;            ///< per Newton step
+    bool                converged = true;
+    // Final state on the slave side (identical on every rank)
+    std::vector<std::array<double, 3>> slave_positions; ///< current, padded with 0 in 2D
+    std::vector<double>                normal_pressure; ///< lambda_n
+    std::vector<double>                weight;          ///< w_j = int Phi_j (current slave area share)
+    std::vector<bool>                  active;
+    double                             max_displacement = 0; ///< max |u| over all nodes
+    double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
+    double                             linear_seconds = 0, setup_seconds = 0;
+  };
+
+  /// Runs the whole simulation. Input errors (mesh, ids, parameters) throw std::invalid_argument
+  /// with a one-line message naming the file or parameter.
+  ContactRunSummary run_contact(const ContactParameters& parameters, MPI_Comm comm);
+} // namespace physics::contact

@@ -1,0 +1,438 @@
+#include "contact/mortar_contact.h"
+
+#include "contact/mortar_integration.h"
+
+#include <deal.II/base/bounding_box.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/boost_adaptors/bounding_box.h>
+#include <deal.II/numerics/rtree.h>
+
+#include <Sacado.hpp>
+
+#include <set>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace physics::contact
+{
+  using AD = Sacado::Fad::DFad<double>;
+
+  namespace
+  {
+    /// Value and gradient (with respect to a list of DOFs) of one scalar.
+    struct Linearized
+    {
+      double                                            value = 0.0;
+      std::vector<std::pair<global_dof_index, double>> gradient;
+    };
+
+    /// Positions of a list of nodes as AD variables 0 .. n*dim-1 (variable i*dim+d = node i, axis d).
+    template <int dim>
+    std::vector<Point<AD, dim>> seed(const std::vector<std::array<double, dim>>& x, int n_vars, int first)
+    {
+      std::vector<Point<AD, dim>> r(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i)
+        for (int d = 0; d < dim; ++d)
+          r[i][d] = AD(n_vars, first + static_cast<int>(i) * dim + d, x[i][d]);
+      return r;
+    }
+
+    /// Unit normal and dim-1 unit tangents at a slave node from its adjacent faces (outward unit
+    /// normals at the face centres, averaged), for any scalar type.
+    template <typename T, int dim>
+    std::array<Point<T, dim>, dim> nodal_frame(const std::vector<std::vector<Point<T, dim>>>& faces)
+    {
+      Point<T, dim> n;
+      for (int d = 0; d < dim; ++d)
+        n[d] = 0.0;
+      for (const auto& f : faces)
+        {
+          const auto nf = face_unit_normal<T, dim>(f);
+          for (int d = 0; d < dim; ++d)
+            n[d] += nf[d];
+        }
+      const T len = sqrt_of(dot<T, dim>(n, n));
+      for (int d = 0; d < dim; ++d)
+        n[d] /= len;
+      std::array<Point<T, dim>, dim> frame;
+      frame[0] = n;
+      if constexpr (dim == 2)
+        frame[1] = {-n[1], n[0]};
+      else
+        {
+          // First tangent: the coordinate axis least aligned with n, made orthogonal to n.
+          int axis = 0;
+          for (int d = 1; d < 3; ++d)
+            if (std::abs(value_of(n[d])) < std::abs(value_of(n[axis])))
+              axis = d;
+          Point<T, 3> t;
+          for (int d = 0; d < 3; ++d)
+            t[d] = (d == axis ? 1.0 : 0.0) - n[axis] * n[d];
+          const T tl = sqrt_of(dot<T, 3>(t, t));
+          for (int d = 0; d < 3; ++d)
+            t[d] /= tl;
+          frame[1] = t;
+          frame[2] = cross<T>(n, t);
+        }
+      return frame;
+    }
+  } // namespace
+
+  template <int dim>
+  MortarContact<dim>::MortarContact(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings)
+      : settings_(settings)
+      , n_dofs_(dof_handler.n_dofs())
+  {
+    const auto& fe = dof_handler.get_fe();
+    if (fe.n_components() != dim || fe.dofs_per_vertex != dim)
+      throw std::invalid_argument("mortar contact: expected a vector-valued linear element with dim DOFs per vertex");
+
+    // Owner of every DOF range (parallel::shared: every rank knows all cells and DOF indices).
+    const MPI_Comm comm =
+        dof_handler.get_triangulation().get_communicator();
+    const auto owned_per_rank = dealii::Utilities::MPI::all_gather(comm, dof_handler.locally_owned_dofs());
+    auto       owner_of       = [&](global_dof_index dof) {
+      for (unsigned int r = 0; r < owned_per_rank.size(); ++r)
+        if (owned_per_rank[r].is_element(dof))
+          return r;
+      return 0u;
+    };
+
+    std::map<unsigned int, unsigned int> slave_index, master_index; // vertex -> node
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        {
+          if (!cell->face(f)->at_boundary())
+            continue;
+          const auto id = cell->face(f)->boundary_id();
+          if (id != settings.slave_boundary && id != settings.master_boundary)
+            continue;
+          const bool slave = (id == settings.slave_boundary);
+          auto&      index = slave ? slave_index : master_index;
+          auto&      nodes = slave ? slave_nodes_ : master_nodes_;
+          auto&      faces = slave ? slave_faces_ : master_faces_;
+
+          // Around the face: deal.II numbers quadrilateral face vertices lexicographically.
+          const auto                face  = cell->face(f);
+          std::vector<unsigned int> order = dim == 2 ? std::vector<unsigned int>{0, 1}
+                                                      : std::vector<unsigned int>{0, 1, 3, 2};
+          if (face->n_vertices() == 3)
+            order = {0, 1, 2};
+          std::vector<unsigned int>   face_nodes;
+          std::vector<Point<double, dim>> x;
+          for (unsigned int v : order)
+            {
+              const unsigned int vertex = face->vertex_index(v);
+              auto               it     = index.find(vertex);
+              if (it == index.end())
+                {
+                  SurfaceNode<dim> node;
+                  for (unsigned int c = 0; c < dim; ++c)
+                    node.dofs[c] = face->vertex_dof_index(v, c);
+                  node.reference = face->vertex(v);
+                  node.owner     = owner_of(node.dofs[0]);
+                  it             = index.emplace(vertex, nodes.size()).first;
+                  nodes.push_back(node);
+                }
+              face_nodes.push_back(it->second);
+              Point<double, dim> p;
+              for (int d = 0; d < dim; ++d)
+                p[d] = face->vertex(v)[d];
+              x.push_back(p);
+            }
+          // Outward: the face normal must point away from the cell centre.
+          const auto n  = face_unit_normal<double, dim>(x);
+          const auto fc = face->center(), cc = cell->center();
+          double     s  = 0;
+          for (int d = 0; d < dim; ++d)
+            s += n[d] * (fc[d] - cc[d]);
+          if (s < 0)
+            std::reverse(face_nodes.begin(), face_nodes.end());
+          faces.nodes.push_back(face_nodes);
+          faces.locally_owned.push_back(cell->is_locally_owned());
+        }
+    if (slave_nodes_.empty())
+      throw std::invalid_argument("no boundary face has the slave boundary id " +
+                                  std::to_string(settings.slave_boundary));
+    if (master_nodes_.empty())
+      throw std::invalid_argument("no boundary face has the master boundary id " +
+                                  std::to_string(settings.master_boundary));
+    slave_node_faces_.resize(slave_nodes_.size());
+    for (unsigned int f = 0; f < slave_faces_.nodes.size(); ++f)
+      for (unsigned int j : slave_faces_.nodes[f])
+        slave_node_faces_[j].push_back(f);
+    normals_.resize(slave_nodes_.size());
+  }
+
+  template <int dim>
+  std::vector<global_dof_index> MortarContact<dim>::surface_dofs() const
+  {
+    std::vector<global_dof_index> dofs;
+    for (const auto* list : {&slave_nodes_, &master_nodes_})
+      for (const auto& node : *list)
+        dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
+    std::sort(dofs.begin(), dofs.end());
+    return dofs;
+  }
+
+  template <int dim>
+  double MortarContact<dim>::minimal_slave_face_size() const
+  {
+    double h = std::numeric_limits<double>::max();
+    for (const auto& f : slave_faces_.nodes)
+      for (std::size_t a = 0; a < f.size(); ++a)
+        h = std::min(h, slave_nodes_[f[a]].reference.distance(slave_nodes_[f[(a + 1) % f.size()]].reference));
+    return h;
+  }
+
+  template <int dim>
+  void MortarContact<dim>::evaluate(const std::vector<std::array<double, dim>>& slave_x,
+                                    const std::vector<std::array<double, dim>>& master_x,
+                                    const std::vector<double>& lambda,
+                                    const std::function<bool(global_dof_index)>& is_constrained, MPI_Comm comm,
+                                    ContactContribution& out)
+  {
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int S    = slave_nodes_.size();
+    out                     = ContactContribution{};
+
+    // Master faces in an R-tree of (enlarged) current bounding boxes.
+    using Box = dealii::BoundingBox<dim>;
+    std::vector<std::pair<Box, unsigned int>> master_boxes;
+    auto face_box = [&](const std::vector<unsigned int>& nodes, const std::vector<std::array<double, dim>>& x) {
+      dealii::Point<dim> lo, hi;
+      for (int d = 0; d < dim; ++d)
+        {
+          lo[d] = hi[d] = x[nodes[0]][d];
+          for (unsigned int a : nodes)
+            {
+              lo[d] = std::min(lo[d], x[a][d]);
+              hi[d] = std::max(hi[d], x[a][d]);
+            }
+        }
+      Box box(std::make_pair(lo, hi));
+      box.extend(settings_.search_radius_factor * lo.distance(hi));
+      return box;
+    };
+    for (unsigned int g = 0; g < master_faces_.nodes.size(); ++g)
+      master_boxes.emplace_back(face_box(master_faces_.nodes[g], master_x), g);
+    const auto tree = dealii::pack_rtree(master_boxes);
+
+    // Per slave node: partial sums of this rank's faces: v_j (dim) and w_j, and the gradient of
+    // v_j (by DOF, dim components).
+    std::vector<double> partial(S * (dim + 1), 0.0);
+    std::vector<std::map<global_dof_index, std::array<double, dim>>> dv(S);
+
+    auto add = [&](global_dof_index row, global_dof_index col, double value) {
+      if (value != 0.0)
+        out.matrix[row][col] += value;
+    };
+    auto free_dof = [&](global_dof_index dof) { return dof >= n_dofs_ || !is_constrained(dof); };
+
+    for (unsigned int f = 0; f < slave_faces_.nodes.size(); ++f)
+      {
+        if (!slave_faces_.locally_owned[f])
+          continue;
+        const auto& sf = slave_faces_.nodes[f];
+        std::vector<std::array<double, dim>> xs;
+        for (unsigned int j : sf)
+          xs.push_back(slave_x[j]);
+        std::vector<std::pair<Box, unsigned int>> hits;
+        tree.query(boost::geometry::index::intersects(face_box(sf, slave_x)), std::back_inserter(hits));
+        for (const auto& hit : hits)
+          {
+            const auto& mf = master_faces_.nodes[hit.second];
+            std::vector<std::array<double, dim>> xm;
+            for (unsigned int l : mf)
+              xm.push_back(master_x[l]);
+            const int  ns = sf.size(), nm = mf.size(), n_vars = (ns + nm) * dim;
+            const auto ads = seed<dim>(xs, n_vars, 0), adm = seed<dim>(xm, n_vars, ns * dim);
+            const auto pair = integrate_pair<AD, dim>(ads, adm, settings_.dual);
+            if (!pair.overlap)
+              continue;
+            // DOF of AD variable i.
+            auto var_dof = [&](int i) {
+              const int node = i / dim, d = i % dim;
+              return node < ns ? slave_nodes_[sf[node]].dofs[d] : master_nodes_[mf[node - ns]].dofs[d];
+            };
+
+            for (int a = 0; a < ns; ++a)
+              {
+                const unsigned int j = sf[a];
+                // v_j partial = sum_l M_jl x_l - sum_k D_jk x_k, with its gradient.
+                for (int d = 0; d < dim; ++d)
+                  {
+                    AD v = 0.0;
+                    for (int l = 0; l < nm; ++l)
+                      v += pair.M[a][l] * adm[l][d];
+                    for (int k = 0; k < ns; ++k)
+                      v -= pair.D[a][k] * ads[k][d];
+                    partial[j * (dim + 1) + d] += v.val();
+                    for (int i = 0; i < n_vars; ++i)
+                      if (v.dx(i) != 0.0)
+                        dv[j][var_dof(i)][d] += v.dx(i);
+                  }
+                for (int k = 0; k < ns; ++k)
+                  partial[j * (dim + 1) + dim] += pair.D[a][k].val();
+
+                // Structural rows: slave + D^T lambda, master - M^T lambda; columns lambda and
+                // (through dD, dM) the positions.
+                for (int c = 0; c < dim; ++c)
+                  {
+                    const double           lam = lambda[dim * j + c];
+                    const global_dof_index col = multiplier_index(j, c);
+                    for (int k = 0; k < ns; ++k)
+                      {
+                        const global_dof_index row = slave_nodes_[sf[k]].dofs[c];
+                        if (!free_dof(row))
+                          continue;
+                        out.residual[row] += pair.D[a][k].val() * lam;
+                        add(row, col, pair.D[a][k].val());
+                        for (int i = 0; i < n_vars; ++i)
+                          if (free_dof(var_dof(i)))
+                            add(row, var_dof(i), pair.D[a][k].dx(i) * lam);
+                      }
+                    for (int l = 0; l < nm; ++l)
+                      {
+                        const global_dof_index row = master_nodes_[mf[l]].dofs[c];
+                        if (!free_dof(row))
+                          continue;
+                        out.residual[row] -= pair.M[a][l].val() * lam;
+                        add(row, col, -pair.M[a][l].val());
+                        for (int i = 0; i < n_vars; ++i)
+                          if (free_dof(var_dof(i)))
+                            add(row, var_dof(i), -pair.M[a][l].dx(i) * lam);
+                      }
+                  }
+              }
+          }
+      }
+
+    // Totals over all ranks (identical everywhere): v_j, w_j; normals; the active set.
+    std::vector<double> total(partial.size());
+    MPI_Allreduce(partial.data(), total.data(), static_cast<int>(partial.size()), MPI_DOUBLE, MPI_SUM, comm);
+    state_.active.assign(S, false);
+    state_.covered.assign(S, false);
+    state_.weighted_gap.assign(S, 0.0);
+    state_.weight.assign(S, 0.0);
+    state_.normal_pressure.assign(S, 0.0);
+    auto adjacent_positions = [&](unsigned int j, auto make) {
+      using T = typename decltype(make(0, 0))::value_type;
+      std::vector<std::vector<Point<T, dim>>> faces;
+      for (unsigned int f : slave_node_faces_[j])
+        {
+          std::vector<Point<T, dim>> x;
+          for (unsigned int k : slave_faces_.nodes[f])
+            x.push_back(make(k, f));
+          faces.push_back(x);
+        }
+      return faces;
+    };
+    for (unsigned int j = 0; j < S; ++j)
+      {
+        const auto faces =
+            adjacent_positions(j, [&](unsigned int k, unsigned int) -> Point<double, dim> { return slave_x[k]; });
+        const auto frame = nodal_frame<double, dim>(faces);
+        normals_[j]      = frame[0];
+        const double w   = total[j * (dim + 1) + dim];
+        double       g = 0, ln = 0;
+        for (int d = 0; d < dim; ++d)
+          {
+            g += frame[0][d] * total[j * (dim + 1) + d];
+            ln += frame[0][d] * lambda[dim * j + d];
+          }
+        state_.weight[j]          = w;
+        state_.weighted_gap[j]    = g;
+        state_.normal_pressure[j] = ln;
+        // A node is in contact only where a master face lies underneath a sizeable part of its
+        // multiplier support (a sliver of overlap gives a meaningless nodal gap).
+        state_.covered[j] = w > 1e-8 * std::pow(minimal_slave_face_size(), dim - 1);
+        // Semi-smooth Newton: active where lambda_n - c_n g > 0. Before the first solve (lambda = 0)
+        // this would leave touching bodies unsupported, so the first evaluation takes the
+        // geometric guess: nodes that touch or penetrate start active.
+        if (first_evaluation_)
+          state_.active[j] = state_.covered[j] && g / w <= 1e-8 * minimal_slave_face_size();
+        else
+          state_.active[j] = state_.covered[j] && ln - settings_.complementarity_parameter * g / w > 0.0;
+      }
+
+    first_evaluation_ = false;
+
+    // Constraint rows. Every rank adds the n_j . dv_j part of the active normal rows it has partial
+    // gradients for; the owner of node j adds the rest (normal derivative, tangential and identity
+    // rows) and the constraint residual.
+    for (unsigned int j = 0; j < S; ++j)
+      {
+        if (state_.active[j])
+          for (const auto& [dof, grad] : dv[j])
+            if (free_dof(dof))
+              {
+                double value = 0;
+                for (int d = 0; d < dim; ++d)
+                  value += normals_[j][d] * grad[d];
+                add(multiplier_index(j, 0), dof, value);
+              }
+        if (slave_nodes_[j].owner != rank)
+          continue;
+        if (!state_.active[j])
+          {
+            for (int c = 0; c < dim; ++c)
+              {
+                out.matrix[multiplier_index(j, c)][multiplier_index(j, c)] += 1.0;
+                out.constraint_residual[multiplier_index(j, c)] = lambda[dim * j + c];
+              }
+            continue;
+          }
+        // The nodal frame as AD function of the adjacent faces' node positions.
+        std::vector<unsigned int> vars; // slave node of each AD variable block
+        for (unsigned int f : slave_node_faces_[j])
+          for (unsigned int k : slave_faces_.nodes[f])
+            if (std::find(vars.begin(), vars.end(), k) == vars.end())
+              vars.push_back(k);
+        const int n_vars = vars.size() * dim;
+        const auto faces = adjacent_positions(j, [&](unsigned int k, unsigned int) {
+          const int      i = std::find(vars.begin(), vars.end(), k) - vars.begin();
+          Point<AD, dim> p;
+          for (int d = 0; d < dim; ++d)
+            p[d] = AD(n_vars, i * dim + d, slave_x[k][d]);
+          return p;
+        });
+        const auto frame = nodal_frame<AD, dim>(faces);
+        auto       dof_of = [&](int i) { return slave_nodes_[vars[i / dim]].dofs[i % dim]; };
+
+        // Normal row: g~_j = n_j . v_j; its derivative through n_j: v_j . dn_j.
+        out.constraint_residual[multiplier_index(j, 0)] = state_.weighted_gap[j];
+        for (int i = 0; i < n_vars; ++i)
+          if (free_dof(dof_of(i)))
+            {
+              double value = 0;
+              for (int d = 0; d < dim; ++d)
+                value += total[j * (dim + 1) + d] * frame[0][d].dx(i);
+              add(multiplier_index(j, 0), dof_of(i), value);
+            }
+        // Tangential rows: tau_m . lambda_j = 0.
+        for (int m = 1; m < dim; ++m)
+          {
+            const global_dof_index row = multiplier_index(j, m);
+            double                 r   = 0;
+            for (int c = 0; c < dim; ++c)
+              {
+                r += frame[m][c].val() * lambda[dim * j + c];
+                out.matrix[row][multiplier_index(j, c)] += frame[m][c].val();
+              }
+            out.constraint_residual[row] = r;
+            for (int i = 0; i < n_vars; ++i)
+              if (free_dof(dof_of(i)))
+                {
+                  double value = 0;
+                  for (int c = 0; c < dim; ++c)
+                    value += lambda[dim * j + c] * frame[m][c].dx(i);
+                  add(row, dof_of(i), value);
+                }
+          }
+      }
+  }
+
+  template class MortarContact<2>;
+  template class MortarContact<3>;
+} // namespace physics::contact
