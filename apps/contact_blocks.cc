@@ -125,6 +125,19 @@ int main(int argc, char** argv)
                     << ", max " << max_linear << "; setup " << summary.setup_seconds << " s, solve "
                     << summary.linear_seconds << " s; " << (summary.converged ? "converged" : "NOT converged")
                     << "\n";
+          double p_min = 0, p_max = 0, force = 0;
+          int    n_active = 0;
+          for (std::size_t j = 0; j < summary.active.size(); ++j)
+            if (summary.active[j])
+              {
+                const double pn = summary.normal_pressure[j];
+                p_min           = n_active == 0 ? pn : std::min(p_min, pn);
+                p_max           = n_active == 0 ? pn : std::max(p_max, pn);
+                force += summary.weight[j] * pn;
+                ++n_active;
+              }
+          std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
+                    << ", total normal force " << force << "\n";
         }
       return summary.converged ? 0 : 1;
     }

@@ -103,7 +103,9 @@ namespace physics
           }
         cell->get_dof_indices(dofs);
         if (tangent)
-          constraints.distribute_local_to_global(cell_matrix, cell_residual, dofs, *tangent, residual);
+          // true: a constrained row gets (its diagonal x inhomogeneity) in the residual, so that an
+          // inhomogeneous constraint is met by the Newton update (load increments).
+          constraints.distribute_local_to_global(cell_matrix, cell_residual, dofs, *tangent, residual, true);
         else
           constraints.distribute_local_to_global(cell_residual, dofs, residual);
       }

@@ -142,16 +142,17 @@ namespace physics::contact
                                                                 Teuchos::ArrayView<const GO>(all_gids), 0,
                                                                 teuchos_comm(comm));
     const Epetra_CrsMatrix& E = K.trilinos_matrix();
-    auto                    A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, E.MaxNumEntries() + 27);
     auto                    b = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(row_map, 1, true);
     auto                    b_data = b->getDataNonConst(0);
     std::vector<double>     values(E.MaxNumEntries());
     std::vector<int>        columns(E.MaxNumEntries());
+    std::vector<std::pair<std::vector<GO>, std::vector<SC>>> matrix_rows(all_gids.size());
+    std::size_t                                               longest = 1;
     for (std::size_t i = 0; i < all_gids.size(); ++i)
       {
-        const GlobalIndex          row = result.assembly_index[i];
-        std::map<GO, double>       entries;
-        double                     r = 0;
+        const GlobalIndex    row = result.assembly_index[i];
+        std::map<GO, double> entries;
+        double               r = 0;
         if (row < n_dofs)
           {
             int       n     = 0;
@@ -167,15 +168,16 @@ namespace physics::contact
         if (const auto it = residual_pieces.find(row); it != residual_pieces.end())
           r += it->second;
         b_data[i] = -r;
-        std::vector<GO> cols;
-        std::vector<SC> vals;
         for (const auto& [c, v] : entries)
           {
-            cols.push_back(c);
-            vals.push_back(v);
+            matrix_rows[i].first.push_back(c);
+            matrix_rows[i].second.push_back(v);
           }
-        A->insertGlobalValues(all_gids[i], cols, vals);
+        longest = std::max(longest, entries.size());
       }
+    auto A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, longest);
+    for (std::size_t i = 0; i < all_gids.size(); ++i)
+      A->insertGlobalValues(all_gids[i], matrix_rows[i].first, matrix_rows[i].second);
     A->fillComplete();
 
     std::vector<BlockInfo> blocks(2);

@@ -58,7 +58,7 @@ namespace physics::contact
                       "Lagrange multiplier shape functions (dual: D diagonal).");
     prm.declare_entry("Complementarity factor", "1", Double(),
                       "c_n = factor * E / h in the complementarity function (> 0).");
-    prm.declare_entry("Search radius factor", "0.5", Double(),
+    prm.declare_entry("Search radius factor", "1", Double(),
                       "Face bounding boxes are enlarged by this times the face size (>= 0).");
     prm.leave_subsection();
 
@@ -158,7 +158,7 @@ namespace physics::contact
             throw std::invalid_argument("parameter 'Displacement': '" + s + "' is not a number");
           }
       }
-    if (static_cast<int>(displacement.size()) != dimension)
+    if (load_type == "displacement" && static_cast<int>(displacement.size()) != dimension)
       throw std::invalid_argument("parameter 'Displacement': expected " + std::to_string(dimension) +
                                   " components, got " + std::to_string(displacement.size()));
     pressure = prm.get_double("Pressure");

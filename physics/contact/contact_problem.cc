@@ -45,6 +45,10 @@ namespace physics::contact
     private:
       void setup();
       void set_prescribed_values(double load_factor);
+      /// Constraints of a load step's first Newton update: the homogeneous ones, with the jump
+      /// of the prescribed values as inhomogeneity (so the increment is spread by the solve
+      /// instead of being imposed on one layer of elements).
+      AffineConstraints<double> increment_constraints() const;
       std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
       void write_output(int step, double time);
 
@@ -61,6 +65,7 @@ namespace physics::contact
       AffineConstraints<double>            constraints_;
       DynamicSparsityPattern               structural_pattern_;
       SolidModel<dim>                      model_;
+      std::map<types::global_dof_index, double> prescribed_; ///< loaded-face values this step
       std::unique_ptr<MortarContact<dim>>  contact_;
       std::vector<OwnedNode<dim>>          owned_nodes_;
 
@@ -225,13 +230,9 @@ namespace physics::contact
           Vector<double> value(dim);
           for (unsigned int d = 0; d < dim; ++d)
             value[d] = load_factor * p_.displacement[d];
-          std::map<types::global_dof_index, double> values;
+          prescribed_.clear();
           VectorTools::interpolate_boundary_values(dof_handler_, p_.loaded_id,
-                                                   Functions::ConstantFunction<dim>(value), values);
-          for (const auto& [dof, v] : values)
-            if (owned_.is_element(dof))
-              u_[dof] = v;
-          u_.compress(VectorOperation::insert);
+                                                   Functions::ConstantFunction<dim>(value), prescribed_);
         }
       else
         {
@@ -254,6 +255,24 @@ namespace physics::contact
                   model_.tractions[p_.loaded_id] = t;
                 }
         }
+    }
+
+    template <int dim>
+    AffineConstraints<double> ContactProblem<dim>::increment_constraints() const
+    {
+      // Newton solves K du = -r; deal.II's lifting puts (diagonal x inhomogeneity) into the
+      // residual of a constrained row, hence the minus sign.
+      AffineConstraints<double> c;
+      c.reinit(relevant_);
+      for (const auto& line : constraints_.get_lines())
+        {
+          const auto   it     = prescribed_.find(line.index);
+          const double target = it == prescribed_.end() ? 0.0 : it->second;
+          c.add_line(line.index);
+          c.set_inhomogeneity(line.index, -(target - u_ghosted_[line.index]));
+        }
+      c.close();
+      return c;
     }
 
     template <int dim>
@@ -317,7 +336,8 @@ namespace physics::contact
 
               K.reinit(owned_, owned_, structural_pattern_, comm_);
               residual = 0;
-              assemble_solid(dof_handler_, model_, u_ghosted_, constraints_, residual, &K);
+              assemble_solid(dof_handler_, model_, u_ghosted_, it == 0 ? increment_constraints() : constraints_,
+                             residual, &K);
               const auto rows = send_rows_to_owners(contribution.matrix, owner, comm_);
               std::map<GlobalIndex, double> pieces = contribution.residual;
               for (const auto& [row, value] : contribution.constraint_residual)

@@ -35,7 +35,7 @@ namespace physics::contact
     // Contact
     bool   dual                   = true;
     double complementarity_factor = 1.0; ///< c_n = factor * E / h
-    double search_radius_factor   = 0.5;
+    double search_radius_factor   = 1.0;
     // Newton
     double newton_relative_tolerance = 1e-8, newton_absolute_tolerance = 1e-12;
     int    newton_max_iterations     = 30;

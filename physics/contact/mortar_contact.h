@@ -48,7 +48,7 @@ namespace physics::contact
     dealii::types::boundary_id master_boundary = 2;
     bool                       dual            = true;
     double                     complementarity_parameter = 1.0; ///< c_n (stiffness / length)
-    double                     search_radius_factor      = 0.5; ///< bounding boxes grow by this x face size
+    double                     search_radius_factor      = 1.0; ///< bounding boxes grow by this x face size
   };
 
   /// One contact-surface node (a mesh vertex with dim displacement DOFs).

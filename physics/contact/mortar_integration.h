@@ -325,16 +325,20 @@ namespace physics::contact
         const auto& a = clip[e];
         const auto& b = clip[(e + 1) % nc];
         // inside: left of a->b (counterclockwise clip polygon)
-        auto side = [&](const std::array<T, 2>& p) {
+        auto side = [&](const std::array<T, 2>& p) -> T {
           return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
         };
+        // Points within a roundoff band of the edge count as inside: master and slave edges
+        // that coincide (aligned meshes, symmetry planes) then produce no intersection, whose
+        // parameter t = sp / (sp - sq) would be 0/0 with meaningless derivatives.
+        const double eps = 1e-10 * value_of((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
         std::vector<std::array<T, 2>> out;
         for (std::size_t i = 0; i < subject.size(); ++i)
           {
             const auto& p = subject[i];
             const auto& q = subject[(i + 1) % subject.size()];
             const T     sp = side(p), sq = side(q);
-            const bool  ip = value_of(sp) >= 0.0, iq = value_of(sq) >= 0.0;
+            const bool  ip = value_of(sp) >= -eps, iq = value_of(sq) >= -eps;
             if (ip)
               out.push_back(p);
             if (ip != iq)
