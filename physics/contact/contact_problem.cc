@@ -372,6 +372,26 @@ namespace physics::contact
               if (p_.export_systems)
                 multigrid::write_block_system(linear.system, p_.output_directory + "/systems/step" +
                                                                  std::to_string(step) + "-newton" + std::to_string(it));
+              // The constrained rows of the first update only say du_i = increment_i and their
+              // columns were eliminated by the lifting: take them out of the Krylov solve (zero
+              // right-hand side there) and add the increments afterwards. AMG hierarchies see the
+              // same operator, but no longer a right-hand side concentrated on decoupled rows.
+              std::map<std::size_t, double> lifted;
+              if (it == 0)
+                {
+                  auto b = linear.system.rhs()->getDataNonConst(0);
+                  for (std::size_t i = 0; i < linear.assembly_index.size(); ++i)
+                    {
+                      const GlobalIndex a = linear.assembly_index[i];
+                      if (a < dof_handler_.n_dofs() && constraints_.is_constrained(a))
+                        {
+                          const auto   t      = prescribed_.find(a);
+                          const double target = t == prescribed_.end() ? 0.0 : t->second;
+                          lifted[i]           = target - u_[a];
+                          b[i]                = 0.0;
+                        }
+                    }
+                }
               multigrid::BlockPreconditioner preconditioner(linear.system, preset);
               auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
                   linear.system.full_map(), 1, true);
@@ -396,7 +416,7 @@ namespace physics::contact
                 {
                   const GlobalIndex a = linear.assembly_index[i];
                   if (a < dof_handler_.n_dofs())
-                    du[a] = data[i];
+                    du[a] = lifted.count(i) ? lifted[i] : data[i];
                   else
                     dlambda[a - dof_handler_.n_dofs()] = data[i];
                 }

@@ -162,6 +162,7 @@ namespace physics::contact
       for (unsigned int j : slave_faces_.nodes[f])
         slave_node_faces_[j].push_back(f);
     normals_.resize(slave_nodes_.size());
+    constraint_row_.resize(slave_nodes_.size());
   }
 
   template <int dim>
@@ -334,6 +335,22 @@ namespace physics::contact
             adjacent_positions(j, [&](unsigned int k, unsigned int) -> Point<double, dim> { return slave_x[k]; });
         const auto frame = nodal_frame<double, dim>(faces);
         normals_[j]      = frame[0];
+        // Which multiplier row holds which constraint: the normal row goes to the Cartesian
+        // component the normal is most aligned with, each tangential row to the best remaining
+        // one. The rows' diagonals (and those of the Schur complement the block smoothers
+        // build) are then nonzero, which pointwise smoothers (SGS, ILU) need.
+        {
+          std::array<bool, dim> taken{};
+          for (int m = 0; m < dim; ++m)
+            {
+              int best = -1;
+              for (int c = 0; c < dim; ++c)
+                if (!taken[c] && (best < 0 || std::abs(frame[m][c]) > std::abs(frame[m][best])))
+                  best = c;
+              taken[best]       = true;
+              constraint_row_[j][m] = best;
+            }
+        }
         const double w   = total[j * (dim + 1) + dim];
         double       g = 0, ln = 0;
         for (int d = 0; d < dim; ++d)
@@ -370,7 +387,7 @@ namespace physics::contact
                 double value = 0;
                 for (int d = 0; d < dim; ++d)
                   value += normals_[j][d] * grad[d];
-                add(multiplier_index(j, 0), dof, value);
+                add(constraint_row(j, 0), dof, value);
               }
         if (slave_nodes_[j].owner != rank)
           continue;
@@ -401,19 +418,19 @@ namespace physics::contact
         auto       dof_of = [&](int i) { return slave_nodes_[vars[i / dim]].dofs[i % dim]; };
 
         // Normal row: g~_j = n_j . v_j; its derivative through n_j: v_j . dn_j.
-        out.constraint_residual[multiplier_index(j, 0)] = state_.weighted_gap[j];
+        out.constraint_residual[constraint_row(j, 0)] = state_.weighted_gap[j];
         for (int i = 0; i < n_vars; ++i)
           if (free_dof(dof_of(i)))
             {
               double value = 0;
               for (int d = 0; d < dim; ++d)
                 value += total[j * (dim + 1) + d] * frame[0][d].dx(i);
-              add(multiplier_index(j, 0), dof_of(i), value);
+              add(constraint_row(j, 0), dof_of(i), value);
             }
         // Tangential rows: tau_m . lambda_j = 0.
         for (int m = 1; m < dim; ++m)
           {
-            const global_dof_index row = multiplier_index(j, m);
+            const global_dof_index row = constraint_row(j, m);
             double                 r   = 0;
             for (int c = 0; c < dim; ++c)
               {

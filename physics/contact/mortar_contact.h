@@ -14,8 +14,8 @@
 //  - Complementarity C_j = lambda_n,j - max(0, lambda_n,j - c_n g~_j / w_j) with the nodal weight
 //    w_j = sum_k D_jk (> 0), so that c_n carries units of stiffness per length (E/h).
 //    Active A = {j : lambda_n,j - c_n g~_j / w_j > 0}, inactive I = the rest.
-//  - Multiplier rows of slave node j, in the node's own frame: row 0 normal, rows 1..dim-1
-//    tangential. Inactive: lambda_j = 0 (identity rows). Active: g~_j = 0 linearized (N row) and
+//  - Multiplier rows of slave node j hold, in the node's own frame, one normal and dim-1
+//    tangential constraints (constraint_row() says which row holds which). Inactive: lambda_j = 0 (identity rows). Active: g~_j = 0 linearized (N row) and
 //    tau_j^m . lambda_j = 0 linearized (T and F rows).
 //
 // Parallel layout: the triangulation is a parallel::shared one, so every rank knows the whole
@@ -121,6 +121,11 @@ namespace physics::contact
     const NodalContactState& state() const { return state_; }
     /// Multiplier component c of slave node j in assembly numbering.
     global_dof_index multiplier_index(unsigned int j, unsigned int c) const { return n_dofs_ + dim * j + c; }
+    /// Row (assembly numbering) of constraint m of slave node j: m = 0 normal, m > 0 tangential.
+    global_dof_index constraint_row(unsigned int j, int m) const
+    {
+      return multiplier_index(j, constraint_row_[j][m]);
+    }
     /// Averaged unit normal at slave node j (from the last evaluation).
     const std::array<double, dim>& normal(unsigned int j) const { return normals_[j]; }
 
@@ -133,5 +138,6 @@ namespace physics::contact
     NodalContactState                      state_;
     std::vector<std::array<double, dim>>   normals_;
     bool                                   first_evaluation_ = true;
+    std::vector<std::array<int, dim>>      constraint_row_; ///< component row of each constraint
   };
 } // namespace physics::contact
