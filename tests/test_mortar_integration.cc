@@ -16,15 +16,20 @@ namespace
   template <int dim>
   using Face = std::vector<Point<double, dim>>;
 
-  /// Slave face facing +z, master face (larger, facing -z) slightly below.
+  /// A flat parallelogram at z = 0.5 (counterclockwise seen from above): on it the projected
+  /// integrands are polynomials and the quadrature is exact.
+  Face<3> parallelogram()
+  {
+    return {{0.1, 0.2, 0.5}, {0.6, 0.25, 0.5}, {0.7, 0.75, 0.5}, {0.2, 0.7, 0.5}};
+  }
+  /// A distorted, slightly warped quadrilateral.
   Face<3> slave_quad()
   {
     return {{0.1, 0.2, 0.5}, {0.6, 0.15, 0.5}, {0.65, 0.7, 0.52}, {0.05, 0.6, 0.5}};
   }
+  /// Large master face below (master body below: outward normal +z, counterclockwise from above).
   Face<3> master_quad(double size = 2.0)
   {
-    // counterclockwise seen from below (outward normal -z... of a body lying above? no: the
-    // master body lies below, its outward normal is +z; the slave body above has -z).
     return {{-size, -size, 0.49}, {size, -size, 0.49}, {size, size, 0.49}, {-size, size, 0.49}};
   }
   /// Slave body above: outward normal -z, so the slave face runs clockwise seen from above.
@@ -49,7 +54,7 @@ TEST(MortarIntegration, DualShapeFunctionsMakeDDiagonal3D)
 {
   for (bool tri : {false, true})
     {
-      Face<3> xs = reversed(slave_quad());
+      Face<3> xs = reversed(parallelogram());
       if (tri)
         xs.pop_back();
       const auto pair = integrate_pair<double, 3>(xs, master_quad(), true);
@@ -85,6 +90,21 @@ TEST(MortarIntegration, DualShapeFunctionsMakeDDiagonal2D)
   const double length = std::hypot(0.6, 0.02);
   EXPECT_NEAR(pair.D[0][0], length / 2, 1e-12);
   EXPECT_NEAR(row_sum<2>(pair.M, 0), pair.D[0][0], 1e-12);
+}
+
+// On a distorted, warped face the projected integrands are rational: D is diagonal up to the
+// quadrature error only.
+TEST(MortarIntegration, DualShapeFunctionsOnDistortedFace)
+{
+  const Face<3> xs   = reversed(slave_quad());
+  const auto    pair = integrate_pair<double, 3>(xs, master_quad(), true);
+  double        diag = 0, off = 0;
+  for (std::size_t j = 0; j < 4; ++j)
+    for (std::size_t k = 0; k < 4; ++k)
+      (j == k ? diag : off) += std::abs(pair.D[j][k]);
+  EXPECT_LT(off, 1e-3 * diag);
+  for (std::size_t j = 0; j < 4; ++j)
+    EXPECT_NEAR(row_sum<3>(pair.M, j), row_sum<3>(pair.D, j), 1e-12);
 }
 
 TEST(MortarIntegration, PartialOverlapArea3D)

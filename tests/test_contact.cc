@@ -1,0 +1,159 @@
+// Mortar contact end to end (physics/contact): patch tests in 2D and 3D with dual and standard
+// multipliers, Newton convergence on the 2D two-block benchmark, and the same benchmark on one
+// rank against all ranks (run this program with 1 and 2 ranks).
+#include "contact/contact_problem.h"
+
+#include <deal.II/base/mpi.h>
+
+#include <Tpetra_Core.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace physics::contact;
+
+namespace
+{
+  std::string output(const std::string& name)
+  {
+    return std::string(TEST_OUTPUT_DIR) + "/" + name + "-np" +
+           std::to_string(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
+  }
+
+  ContactParameters patch(int dim, bool dual)
+  {
+    ContactParameters p;
+    p.dimension  = dim;
+    p.mesh_file  = std::string(MESH_DIR) + (dim == 2 ? "/patch_2d.geo" : "/patch_3d.geo");
+    p.clamped_id = -1;
+    p.loaded_id  = 4;
+    p.symmetry   = dim == 2 ? std::vector<int>{5, 0, 6, 1} : std::vector<int>{5, 0, 6, 1, 7, 2};
+    p.load_type  = "pressure";
+    p.pressure   = 1e5;
+    p.load_steps = 1;
+    p.dual       = dual;
+    p.preset     = "direct(superlu)";
+    p.linear_tolerance          = 1e-10;
+    p.newton_relative_tolerance = 1e-10;
+    p.vtk                       = false;
+    p.output_directory = output(std::string("patch") + std::to_string(dim) + "d-" + (dual ? "dual" : "standard"));
+    return p;
+  }
+
+  ContactParameters benchmark_2d(const std::string& name)
+  {
+    ContactParameters p;
+    p.mesh_file       = std::string(MESH_DIR) + "/two_blocks_2d.geo";
+    p.gmsh_refinement = 4;
+    p.displacement    = {0.005, -0.02};
+    p.load_steps      = 2;
+    p.preset          = "emin(cheapsimple)";
+    p.overrides       = {"template parameters/MIN_AGG_SIZE=6", "template parameters/COARSE_MAX_SIZE=500"};
+    p.vtk             = false;
+    p.output_directory = output(name);
+    return p;
+  }
+} // namespace
+
+class PatchTest : public ::testing::TestWithParam<std::tuple<int, bool>>
+{
+};
+
+// A uniform pressure crosses the non-matching interface exactly: every slave node is active and
+// carries the same contact pressure, equal to the applied force over the current contact area
+// (sum of the nodal weights w_j = int Phi_j: the dead load is per reference area).
+TEST_P(PatchTest, UniformPressureIsTransmittedExactly)
+{
+  const auto [dim, dual] = GetParam();
+  const auto p           = patch(dim, dual);
+  const auto s           = run_contact(p, MPI_COMM_WORLD);
+  ASSERT_TRUE(s.converged);
+  double area = 0;
+  for (std::size_t j = 0; j < s.weight.size(); ++j)
+    {
+      EXPECT_TRUE(s.active[j]) << "slave node " << j << " not in contact";
+      area += s.weight[j];
+    }
+  const double expected = p.pressure / area; // reference area 1
+  double       worst    = 0;
+  for (double pn : s.normal_pressure)
+    worst = std::max(worst, std::abs(pn - expected) / expected);
+  EXPECT_LT(worst, 1e-8) << "largest relative deviation of the contact pressure from " << expected;
+  EXPECT_LT(std::abs(area - 1.0), 0.01) << "current contact area " << area;
+  // Homogeneous interface motion: all slave nodes move down by the same amount.
+  double zmin = 1e9, zmax = -1e9;
+  for (const auto& x : s.slave_positions)
+    {
+      zmin = std::min(zmin, x[dim - 1]);
+      zmax = std::max(zmax, x[dim - 1]);
+    }
+  EXPECT_LT(zmax - zmin, 1e-10) << "interface not flat";
+  if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+    std::cout << "patch " << dim << "D " << (dual ? "dual" : "standard") << ": pressure " << expected
+              << ", max relative deviation " << worst << ", Newton steps " << s.newton_iterations[0] << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Contact, PatchTest,
+                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(true, false)),
+                         [](const auto& info) {
+                           return std::to_string(std::get<0>(info.param)) + "d_" +
+                                  (std::get<1>(info.param) ? "dual" : "standard");
+                         });
+
+// The two-block benchmark converges with the saddle-point AMG; the active set settles and the last
+// Newton steps converge superlinearly.
+TEST(ContactBenchmark, NewtonConvergesSuperlinearly2D)
+{
+  const auto s = run_contact(benchmark_2d("newton"), MPI_COMM_WORLD);
+  ASSERT_TRUE(s.converged);
+  for (const auto& r : s.residuals)
+    {
+      ASSERT_GE(r.size(), 3u);
+      const std::size_t n = r.size();
+      // superlinear: the last contraction factor is much smaller than the one before
+      const double q_last = r[n - 1] / r[n - 2], q_prev = r[n - 2] / r[n - 3];
+      EXPECT_LT(q_last, 1e-3);
+      EXPECT_LT(q_last, 0.1 * q_prev);
+    }
+  for (int its : s.linear_iterations)
+    EXPECT_LE(its, 60);
+}
+
+// One rank against all ranks: same Newton path, GMRES counts within 10 %, same displacements.
+TEST(ContactBenchmark, OneRankAndAllRanksAgree)
+{
+  const int rank = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+  MPI_Comm  self;
+  MPI_Comm_split(MPI_COMM_WORLD, rank, 0, &self);
+  const auto all = run_contact(benchmark_2d("all-ranks"), MPI_COMM_WORLD);
+  auto       p1  = benchmark_2d("one-rank-" + std::to_string(rank));
+  const auto one = run_contact(p1, self);
+  MPI_Comm_free(&self);
+  ASSERT_TRUE(all.converged);
+  ASSERT_TRUE(one.converged);
+  EXPECT_EQ(all.newton_iterations, one.newton_iterations);
+  double sum_all = 0, sum_one = 0;
+  for (int i : all.linear_iterations)
+    sum_all += i;
+  for (int i : one.linear_iterations)
+    sum_one += i;
+  EXPECT_LE(std::abs(sum_all - sum_one), 0.1 * sum_one) << "GMRES iterations " << sum_all << " vs " << sum_one;
+  EXPECT_NEAR(all.displacement_l2, one.displacement_l2, 1e-8 * one.displacement_l2);
+  for (std::size_t j = 0; j < one.slave_positions.size(); ++j)
+    for (int d = 0; d < 2; ++d)
+      EXPECT_NEAR(all.slave_positions[j][d], one.slave_positions[j][d], 1e-8);
+  if (rank == 0)
+    std::cout << "GMRES iterations (all Newton steps): " << sum_all << " on all ranks, " << sum_one
+              << " on one; |u| " << all.displacement_l2 << " vs " << one.displacement_l2 << "\n";
+}
+
+int main(int argc, char** argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Tpetra::ScopeGuard                       tpetra(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
+    delete ::testing::UnitTest::GetInstance()->listeners().Release(
+        ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
+  return RUN_ALL_TESTS();
+}
