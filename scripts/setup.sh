@@ -35,9 +35,8 @@ cmake --build build -j "$jobs"
 
 case "$mode" in
   run)
-    mkdir -p output
-    mpirun -np 2 build/apps/solve_block_system --builtin tied-blocks-2d:3 \
-      --preset "emin(cheapsimple)" --json output/solve_report.json
+    # The main example: 2D two-block mortar contact (apps/contact_blocks_2d.prm), 2 ranks.
+    mpirun -np 2 build/apps/contact_blocks apps/contact_blocks_2d.prm
     ;;
   test)
     cd build && ctest --output-on-failure -j "$jobs" -LE benchmark

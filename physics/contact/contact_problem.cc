@@ -28,6 +28,7 @@
 #include <iomanip>
 #include <iostream>
 #include <set>
+#include <sstream>
 
 namespace physics::contact
 {
@@ -142,9 +143,9 @@ namespace physics::contact
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
             {
-              if (cell->face(f)->boundary_id() == p_.slave_id)
+              if (cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.slave_id))
                 slave_materials.insert(cell->material_id());
-              if (cell->face(f)->boundary_id() == p_.master_id)
+              if (cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.master_id))
                 master_materials.insert(cell->material_id());
             }
       for (auto m : slave_materials)
@@ -171,8 +172,12 @@ namespace physics::contact
             if (it != nodes.end())
               {
                 if (it->second.slave_body != slave_body)
-                  throw std::invalid_argument(p_.mesh_file + ": the two bodies share a node at " +
-                                              std::to_string(cell->vertex(v)[0]) + ", ...; mesh them separately");
+                {
+                  std::ostringstream where;
+                  where << cell->vertex(v);
+                  throw std::invalid_argument(p_.mesh_file + ": the two bodies share the node at (" + where.str() +
+                                              "); mesh them separately (Geometry.AutoCoherence = 0)");
+                }
                 continue;
               }
             OwnedNode<dim> node;
@@ -241,7 +246,7 @@ namespace physics::contact
           // loaded face must be flat: its normal is taken from the first face found.
           for (const auto& cell : tria_.active_cell_iterators())
             for (const unsigned int f : cell->face_indices())
-              if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == p_.loaded_id &&
+              if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.loaded_id) &&
                   model_.tractions.empty())
                 {
                   Tensor<1, dim> n = cell->face(f)->center() - cell->center();
@@ -444,7 +449,7 @@ namespace physics::contact
       const auto  xs    = positions(contact_->slave_nodes());
       for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
         {
-          std::array<double, 3> x{0, 0, 0};
+          std::array<double, 3> x{{0, 0, 0}};
           for (unsigned int d = 0; d < dim; ++d)
             x[d] = xs[j][d];
           summary.slave_positions.push_back(x);

@@ -9,6 +9,7 @@
 
 #include <Sacado.hpp>
 
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <unordered_map>
@@ -163,6 +164,10 @@ namespace physics::contact
         slave_node_faces_[j].push_back(f);
     normals_.resize(slave_nodes_.size());
     constraint_row_.resize(slave_nodes_.size());
+    h_min_ = std::numeric_limits<double>::max();
+    for (const auto& f : slave_faces_.nodes)
+      for (std::size_t a = 0; a < f.size(); ++a)
+        h_min_ = std::min(h_min_, slave_nodes_[f[a]].reference.distance(slave_nodes_[f[(a + 1) % f.size()]].reference));
   }
 
   template <int dim>
@@ -174,16 +179,6 @@ namespace physics::contact
         dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
     std::sort(dofs.begin(), dofs.end());
     return dofs;
-  }
-
-  template <int dim>
-  double MortarContact<dim>::minimal_slave_face_size() const
-  {
-    double h = std::numeric_limits<double>::max();
-    for (const auto& f : slave_faces_.nodes)
-      for (std::size_t a = 0; a < f.size(); ++a)
-        h = std::min(h, slave_nodes_[f[a]].reference.distance(slave_nodes_[f[(a + 1) % f.size()]].reference));
-    return h;
   }
 
   template <int dim>

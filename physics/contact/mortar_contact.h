@@ -106,7 +106,7 @@ namespace physics::contact
     /// All DOFs of both surfaces (every rank needs their current values).
     std::vector<global_dof_index> surface_dofs() const;
     /// Smallest slave face size (for c_n = factor E / h).
-    double minimal_slave_face_size() const;
+    double minimal_slave_face_size() const { return h_min_; }
 
     /// Evaluates D, M, the gaps and their linearization at the current positions of all slave
     /// and master nodes (reference + displacement, the same on every rank) and the multipliers
@@ -138,6 +138,7 @@ namespace physics::contact
     NodalContactState                      state_;
     std::vector<std::array<double, dim>>   normals_;
     bool                                   first_evaluation_ = true;
+    double                                 h_min_            = 0; ///< smallest slave edge (reference)
     std::vector<std::array<int, dim>>      constraint_row_; ///< component row of each constraint
   };
 } // namespace physics::contact

@@ -105,7 +105,7 @@ namespace physics::contact
   /// Reference-element centre (where the auxiliary plane's normal is taken).
   inline std::array<double, 2> face_centre_parameter(int n)
   {
-    return n == 3 ? std::array<double, 2>{1.0 / 3.0, 1.0 / 3.0} : std::array<double, 2>{0.0, 0.0};
+    return n == 3 ? std::array<double, 2>{{1.0 / 3.0, 1.0 / 3.0}} : std::array<double, 2>{{0.0, 0.0}};
   }
 
   /// Position x(xi) and the (unnormalized, outward) normal at xi of a face.
