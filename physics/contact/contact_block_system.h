@@ -6,15 +6,17 @@
 //                                                        N2: inner slave body)
 //   multipliers ordered        lambda_I | lambda_A
 //
-//   [ K_N1N1 K_N1M                          0      ] [du_N1]
-//   [ K_MN1  K_MM   K_MI   K_MA   0   -M_I^T -M_A^T] [du_M ]
-//   [        K_IM   K_II   K_IA   K_IN2  D_II^T 0  ] [du_I ]
-//   [        K_AM   K_AI   K_AA   K_AN2  0   D_AA^T] [du_A ]   = -r
-//   [               K_N2I  K_N2A  K_N2N2 0      0  ] [du_N2]
-//   [                               I           0  ] [dl_I ]
-//   [        N_M    N_I    N_A           0      0  ] [dl_A ]   (normal rows)
-//   [        F_M    F_I    F_A           0      T  ] [dl_A ]   (tangential rows)
+//            du_N1   du_M    du_I    du_A    du_N2   dl_I     dl_A
+//   N1    [ K_N1N1  K_N1M   .       .       .       .        .      ]
+//   M     [ K_MN1   K_MM    K_MI    K_MA    .       -M_I^T   -M_A^T ]
+//   I     [ .       K_IM    K_II    K_IA    K_IN2   D_II^T   D_AI^T ]
+//   A     [ .       K_AM    K_AI    K_AA    K_AN2   D_IA^T   D_AA^T ]  = -r
+//   N2    [ .       .       K_N2I   K_N2A   K_N2N2  .        .      ]
+//   l_I   [ .       .       .       .       .       I        .      ]  (inactive: lambda = 0)
+//   l_A,n [ .       N_M     N_I     N_A     .       .        .      ]  (active, normal)
+//   l_A,t [ .       F_M     F_I     F_A     .       .        T      ]  (active, tangential)
 //
+// With dual multipliers D is diagonal on fully covered slave faces, so D_AI = D_IA = 0 there.
 // (K_M* and K_S* include the linearized D^T lambda, M^T lambda terms.) Global ids: class by
 // class, and within a class rank by rank, node-major with dim components, so each rank's rows of
 // every class are contiguous and the strided maps MueLu needs follow directly.
