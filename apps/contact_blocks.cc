@@ -12,6 +12,8 @@
 #include <Tpetra_Core.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 
 namespace
@@ -136,6 +138,17 @@ int main(int argc, char** argv)
                 force += summary.weight[j] * pn;
                 ++n_active;
               }
+          // Final slave-node state as CSV (for postprocessing, e.g. the Hertz comparison).
+          const std::string csv = p.output_directory + "/contact_nodes.csv";
+          {
+            std::ofstream out(csv + ".tmp");
+            out << "x,y,z,contact_pressure,weight,active\n" << std::setprecision(12);
+            for (std::size_t j = 0; j < summary.active.size(); ++j)
+              out << summary.slave_positions[j][0] << "," << summary.slave_positions[j][1] << ","
+                  << summary.slave_positions[j][2] << "," << summary.normal_pressure[j] << "," << summary.weight[j]
+                  << "," << (summary.active[j] ? 1 : 0) << "\n";
+          }
+          std::filesystem::rename(csv + ".tmp", csv);
           std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
                     << ", total normal force " << force << "\n";
         }
