@@ -3,7 +3,7 @@
 // linearization (Sacado forward AD through mortar_integration.h), nodal normals, weighted gaps,
 // the active set and the contact rows and columns of the Newton system.
 //
-// Conventions (checked by the patch test, tests/test_contact_patch.cc):
+// Conventions (checked by the patch tests in tests/test_contact.cc):
 //  - n_j is the averaged OUTWARD unit normal of the slave body at slave node j.
 //  - The vector multiplier lambda_j lives on slave node j; the structural residual gets
 //        slave rows  + sum_j D_jk lambda_j,   master rows  - sum_j M_jl lambda_j,
