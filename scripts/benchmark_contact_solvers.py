@@ -15,7 +15,7 @@ import subprocess
 import sys
 import time
 
-PRESETS = ["emin(cheapsimple)", "sa-amg(cheapsimple)", "pa-amg(cheapsimple)", "sa-amg(braess-sarazin)",
+PRESETS = ["fully-coupled-sa-amg(simple)", "emin(cheapsimple)", "sa-amg(cheapsimple)", "pa-amg(cheapsimple)", "sa-amg(braess-sarazin)",
            "cheapsimple(sa-amg)", "cheapsimplec(sgs)", "direct(superlu)"]
 
 
