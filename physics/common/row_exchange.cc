@@ -39,6 +39,14 @@ namespace physics
     }
   } // namespace
 
+  unsigned int owning_rank(const std::vector<dealii::IndexSet>& owned_per_rank, GlobalIndex index)
+  {
+    for (unsigned int r = 0; r < owned_per_rank.size(); ++r)
+      if (owned_per_rank[r].is_element(index))
+        return r;
+    return 0;
+  }
+
   RowPieces send_rows_to_owners(const RowPieces& rows, const std::function<unsigned int(GlobalIndex)>& owner,
                                 MPI_Comm comm)
   {

@@ -4,17 +4,23 @@
 // they are summed. One all-to-all of counts and one of data per call.
 #pragma once
 
+#include <deal.II/base/index_set.h>
 #include <deal.II/base/types.h>
 
 #include <mpi.h>
 
 #include <functional>
 #include <map>
+#include <vector>
 
 namespace physics
 {
   using GlobalIndex = dealii::types::global_dof_index;
   using RowPieces   = std::map<GlobalIndex, std::map<GlobalIndex, double>>;
+
+  /// The rank whose entry of `owned_per_rank` (all ranks' owned index sets, e.g. from
+  /// Utilities::MPI::all_gather) contains `index`; 0 if none does.
+  unsigned int owning_rank(const std::vector<dealii::IndexSet>& owned_per_rank, GlobalIndex index);
 
   /// Rows not owned here are sent to `owner(row)` and summed there; returns the owned rows.
   RowPieces send_rows_to_owners(const RowPieces& rows, const std::function<unsigned int(GlobalIndex)>& owner,

@@ -97,6 +97,14 @@ namespace physics::contact
         throw std::invalid_argument("parameter '" + name + "': expected a positive value, got " + std::to_string(v));
       return v;
     }
+
+    /// A tolerance: 0 < v < 1. `name` says which parameter (and, if ambiguous, its section).
+    double tolerance(double v, const std::string& name)
+    {
+      if (!(v > 0 && v < 1))
+        throw std::invalid_argument("parameter " + name + ": expected 0 < tol < 1");
+      return v;
+    }
   } // namespace
 
   void ContactParameters::parse(dealii::ParameterHandler& prm)
@@ -176,9 +184,7 @@ namespace physics::contact
     prm.leave_subsection();
 
     prm.enter_subsection("Newton");
-    newton_relative_tolerance = prm.get_double("Relative tolerance");
-    if (!(newton_relative_tolerance > 0 && newton_relative_tolerance < 1))
-      throw std::invalid_argument("parameter 'Relative tolerance' (Newton): expected 0 < tol < 1");
+    newton_relative_tolerance = tolerance(prm.get_double("Relative tolerance"), "'Relative tolerance' (Newton)");
     newton_absolute_tolerance = prm.get_double("Absolute tolerance");
     newton_max_iterations     = prm.get_integer("Maximum iterations");
     prm.leave_subsection();
@@ -186,9 +192,7 @@ namespace physics::contact
     prm.enter_subsection("Linear solver");
     preset    = prm.get("Preset");
     overrides = dealii::Utilities::split_string_list(prm.get("Overrides"), ';');
-    linear_tolerance = prm.get_double("Tolerance");
-    if (!(linear_tolerance > 0 && linear_tolerance < 1))
-      throw std::invalid_argument("parameter 'Tolerance' (Linear solver): expected 0 < tol < 1");
+    linear_tolerance = tolerance(prm.get_double("Tolerance"), "'Tolerance' (Linear solver)");
     linear_max_iterations = prm.get_integer("Maximum iterations");
     restart               = prm.get_integer("Restart");
     prm.leave_subsection();

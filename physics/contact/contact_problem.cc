@@ -125,9 +125,8 @@ namespace physics::contact
       settings.dual                 = p_.dual;
       settings.search_radius_factor = p_.search_radius_factor;
       contact_ = std::make_unique<MortarContact<dim>>(dof_handler_, settings);
-      settings.complementarity_parameter =
-          p_.complementarity_factor * p_.youngs_modulus / contact_->minimal_slave_face_size();
-      contact_ = std::make_unique<MortarContact<dim>>(dof_handler_, settings);
+      contact_->set_complementarity_parameter(p_.complementarity_factor * p_.youngs_modulus /
+                                              contact_->minimal_slave_face_size());
 
       ghosts_ = relevant_;
       {
@@ -298,10 +297,7 @@ namespace physics::contact
       auto              owner = [&](GlobalIndex row) -> unsigned int {
         if (row >= dof_handler_.n_dofs())
           return contact_->slave_nodes()[(row - dof_handler_.n_dofs()) / dim].owner;
-        for (unsigned int r = 0; r < owned_per_rank_.size(); ++r)
-          if (owned_per_rank_[r].is_element(row))
-            return r;
-        return 0;
+        return owning_rank(owned_per_rank_, row);
       };
       auto is_constrained = [&](GlobalIndex dof) { return constraints_.is_constrained(dof); };
 
@@ -487,15 +483,13 @@ namespace physics::contact
         }
       multiplier.compress(VectorOperation::insert);
       fields.compress(VectorOperation::insert);
-      TrilinosWrappers::MPI::Vector multiplier_g(owned_, relevant_, comm_), fields_g(owned_, relevant_, comm_),
-          u_g(owned_, relevant_, comm_);
+      TrilinosWrappers::MPI::Vector multiplier_g(owned_, relevant_, comm_), fields_g(owned_, relevant_, comm_);
       multiplier_g = multiplier;
       fields_g     = fields;
-      u_g          = u_;
 
       std::vector<Vector<float>> sigma;
       Vector<float>              von_mises, partition(tria_.n_active_cells());
-      cell_cauchy_stress(dof_handler_, model_, u_g, sigma, von_mises);
+      cell_cauchy_stress(dof_handler_, model_, u_ghosted_, sigma, von_mises);
       for (const auto& cell : tria_.active_cell_iterators())
         partition(cell->active_cell_index()) = cell->subdomain_id();
 
@@ -503,7 +497,7 @@ namespace physics::contact
       out.attach_dof_handler(dof_handler_);
       const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector_field(
           dim, DataComponentInterpretation::component_is_part_of_vector);
-      out.add_data_vector(u_g, std::vector<std::string>(dim, "displacement"), DataOut<dim>::type_dof_data, vector_field);
+      out.add_data_vector(u_ghosted_, std::vector<std::string>(dim, "displacement"), DataOut<dim>::type_dof_data, vector_field);
       out.add_data_vector(multiplier_g, std::vector<std::string>(dim, "contact_multiplier"),
                           DataOut<dim>::type_dof_data, vector_field);
       std::vector<std::string> names = {"contact_pressure", "active"};

@@ -1,5 +1,6 @@
 #include "contact/mortar_contact.h"
 
+#include "common/row_exchange.h"
 #include "contact/mortar_integration.h"
 
 #include <deal.II/base/bounding_box.h>
@@ -92,12 +93,6 @@ namespace physics::contact
     const MPI_Comm comm =
         dof_handler.get_triangulation().get_communicator();
     const auto owned_per_rank = dealii::Utilities::MPI::all_gather(comm, dof_handler.locally_owned_dofs());
-    auto       owner_of       = [&](global_dof_index dof) {
-      for (unsigned int r = 0; r < owned_per_rank.size(); ++r)
-        if (owned_per_rank[r].is_element(dof))
-          return r;
-      return 0u;
-    };
 
     std::map<unsigned int, unsigned int> slave_index, master_index; // vertex -> node
     for (const auto& cell : dof_handler.active_cell_iterators())
@@ -131,7 +126,7 @@ namespace physics::contact
                   for (unsigned int c = 0; c < dim; ++c)
                     node.dofs[c] = face->vertex_dof_index(v, c);
                   node.reference = face->vertex(v);
-                  node.owner     = owner_of(node.dofs[0]);
+                  node.owner     = owning_rank(owned_per_rank, node.dofs[0]);
                   it             = index.emplace(vertex, nodes.size()).first;
                   nodes.push_back(node);
                 }

@@ -100,6 +100,9 @@ namespace physics::contact
     /// std::invalid_argument naming the missing boundary id if a surface is empty.
     MortarContact(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings);
 
+    /// c_n of the complementarity function (it needs the mesh size, known after construction).
+    void set_complementarity_parameter(double c_n) { settings_.complementarity_parameter = c_n; }
+
     unsigned int n_slave_nodes() const { return slave_nodes_.size(); }
     const std::vector<SurfaceNode<dim>>& slave_nodes() const { return slave_nodes_; }
     const std::vector<SurfaceNode<dim>>& master_nodes() const { return master_nodes_; }

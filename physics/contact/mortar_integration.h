@@ -108,16 +108,15 @@ namespace physics::contact
     return n == 3 ? std::array<double, 2>{{1.0 / 3.0, 1.0 / 3.0}} : std::array<double, 2>{{0.0, 0.0}};
   }
 
-  /// Position x(xi) and the (unnormalized, outward) normal at xi of a face.
+  /// Position x(xi) and the tangents dx/dxi_0, dx/dxi_1 at xi of a face.
   template <typename T, int dim>
-  void face_geometry(const std::vector<Point<T, dim>>& x, const std::array<T, 2>& xi, Point<T, dim>& position,
-                     Point<T, dim>& normal)
+  void face_point_and_tangents(const std::vector<Point<T, dim>>& x, const std::array<T, 2>& xi,
+                               Point<T, dim>& position, Point<T, dim>& g0, Point<T, dim>& g1)
   {
     const int                       n = static_cast<int>(x.size());
     std::array<T, 4>                N;
     std::array<std::array<T, 2>, 4> dN;
     face_shape_functions<T>(n, xi, N, dN);
-    Point<T, dim> g0, g1;
     for (int d = 0; d < dim; ++d)
       {
         position[d] = 0.0;
@@ -130,6 +129,15 @@ namespace physics::contact
             g1[d] += dN[a][1] * x[a][d];
           }
       }
+  }
+
+  /// Position x(xi) and the (unnormalized, outward) normal at xi of a face.
+  template <typename T, int dim>
+  void face_geometry(const std::vector<Point<T, dim>>& x, const std::array<T, 2>& xi, Point<T, dim>& position,
+                     Point<T, dim>& normal)
+  {
+    Point<T, dim> g0, g1;
+    face_point_and_tangents<T, dim>(x, xi, position, g0, g1);
     if constexpr (dim == 2)
       normal = {g0[1], -g0[0]};
     else
@@ -162,23 +170,11 @@ namespace physics::contact
     T                alpha = 0.0;
     for (int it = 0; it < 20; ++it)
       {
-        std::array<T, 4>                N;
-        std::array<std::array<T, 2>, 4> dN;
-        face_shape_functions<T>(n, xi, N, dN);
         // Residual r = x(xi) - alpha n0 - p and its Jacobian columns [dx/dxi_0, dx/dxi_1, -n0].
         Point<T, dim> r, g0, g1;
+        face_point_and_tangents<T, dim>(x, xi, r, g0, g1);
         for (int d = 0; d < dim; ++d)
-          {
-            r[d]  = -alpha * n0[d] - p[d];
-            g0[d] = 0.0;
-            g1[d] = 0.0;
-            for (int a = 0; a < n; ++a)
-              {
-                r[d] += N[a] * x[a][d];
-                g0[d] += dN[a][0] * x[a][d];
-                g1[d] += dN[a][1] * x[a][d];
-              }
-          }
+          r[d] -= alpha * n0[d] + p[d];
         if constexpr (dim == 2)
           {
             // [g0 -n0] (dxi, dalpha) = -r
