@@ -1,5 +1,6 @@
 #include "common/solid_mechanics.h"
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
@@ -23,6 +24,16 @@ namespace physics
       return *it->second;
     }
 
+    template <int dim>
+    double density_of(const SolidModel<dim>& model, types::material_id id)
+    {
+      const auto it = model.densities.find(id);
+      if (it == model.densities.end())
+        throw std::invalid_argument("a cell has material id " + std::to_string(id) +
+                                    ", for which no density is defined");
+      return it->second;
+    }
+
     /// Deformation gradients F = I + grad u at the quadrature points of a cell.
     template <int dim>
     void deformation_gradients(const FEValues<dim>& fe_values, const TrilinosWrappers::MPI::Vector& u,
@@ -40,12 +51,15 @@ namespace physics
   template <int dim>
   void assemble_solid(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                       const TrilinosWrappers::MPI::Vector& u, const AffineConstraints<double>& constraints,
-                      TrilinosWrappers::MPI::Vector& residual, TrilinosWrappers::SparseMatrix* tangent)
+                      TrilinosWrappers::MPI::Vector& residual, TrilinosWrappers::SparseMatrix* tangent,
+                      const ResidualWeights& weights)
   {
     const auto&       fe = dof_handler.get_fe();
     const QGauss<dim> quadrature(fe.degree + 1);
     const QGauss<dim - 1> face_quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    const bool        inertia = weights.mass != 0.0;
+    FEValues<dim>     fe_values(fe, quadrature,
+                                update_gradients | update_JxW_values | (inertia ? update_values : update_default));
     FEFaceValues<dim> fe_face_values(fe, face_quadrature, update_values | update_JxW_values);
     const FEValuesExtractors::Vector displacement(0);
 
@@ -54,12 +68,14 @@ namespace physics
     Vector<double>     cell_residual(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<Tensor<2, dim>>          F, grad_N(n);
+    std::vector<Tensor<1, dim>>          u_q;
 
     for (const auto& cell : dof_handler.active_cell_iterators())
       {
         if (!cell->is_locally_owned())
           continue;
         const auto& material = material_of(model, cell->material_id());
+        const double rho     = inertia ? density_of(model, cell->material_id()) : 0.0;
         fe_values.reinit(cell);
         deformation_gradients(fe_values, u, F);
         cell_matrix   = 0;
@@ -101,6 +117,26 @@ namespace physics
                 cell_residual(i) -=
                     fe_face_values[displacement].value(i, q) * t->second * fe_face_values.JxW(q);
           }
+        cell_matrix *= weights.force;
+        cell_residual *= weights.force;
+        // Inertia: + c_m M u (residual) and + c_m M (Jacobian).
+        if (inertia)
+          {
+            u_q.resize(quadrature.size());
+            fe_values[displacement].get_function_values(u, u_q);
+            for (unsigned int q = 0; q < quadrature.size(); ++q)
+              {
+                const double m = weights.mass * rho * fe_values.JxW(q);
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const Tensor<1, dim> N_i = fe_values[displacement].value(i, q);
+                    cell_residual(i) += m * (N_i * u_q[q]);
+                    if (tangent)
+                      for (unsigned int j = 0; j < n; ++j)
+                        cell_matrix(i, j) += m * (N_i * fe_values[displacement].value(j, q));
+                  }
+              }
+          }
         cell->get_dof_indices(dofs);
         if (tangent)
           // true: a constrained row gets (its diagonal x inhomogeneity) in the residual, so that an
@@ -112,6 +148,57 @@ namespace physics
     if (tangent)
       tangent->compress(VectorOperation::add);
     residual.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  void assemble_mass(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                     const AffineConstraints<double>& constraints, TrilinosWrappers::SparseMatrix& M)
+  {
+    const auto&       fe = dof_handler.get_fe();
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(fe, quadrature, update_values | update_JxW_values);
+    const FEValuesExtractors::Vector     displacement(0);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_matrix(n, n);
+    std::vector<types::global_dof_index> dofs(n);
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const double rho = density_of(model, cell->material_id());
+        fe_values.reinit(cell);
+        cell_matrix = 0;
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              cell_matrix(i, j) += rho * (fe_values[displacement].value(i, q) * fe_values[displacement].value(j, q)) *
+                                   fe_values.JxW(q);
+        cell->get_dof_indices(dofs);
+        constraints.distribute_local_to_global(cell_matrix, dofs, M);
+      }
+    M.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  double strain_energy(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                       const TrilinosWrappers::MPI::Vector& u)
+  {
+    const auto&       fe = dof_handler.get_fe();
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    std::vector<Tensor<2, dim>> F;
+    double                      energy = 0;
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto& material = material_of(model, cell->material_id());
+        fe_values.reinit(cell);
+        deformation_gradients(fe_values, u, F);
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          energy += material.energy(F[q]) * fe_values.JxW(q);
+      }
+    return Utilities::MPI::sum(energy, u.get_mpi_communicator());
   }
 
   template <int dim>
@@ -155,10 +242,16 @@ namespace physics
 
   template void assemble_solid<2>(const DoFHandler<2>&, const SolidModel<2>&, const TrilinosWrappers::MPI::Vector&,
                                   const AffineConstraints<double>&, TrilinosWrappers::MPI::Vector&,
-                                  TrilinosWrappers::SparseMatrix*);
+                                  TrilinosWrappers::SparseMatrix*, const ResidualWeights&);
   template void assemble_solid<3>(const DoFHandler<3>&, const SolidModel<3>&, const TrilinosWrappers::MPI::Vector&,
                                   const AffineConstraints<double>&, TrilinosWrappers::MPI::Vector&,
-                                  TrilinosWrappers::SparseMatrix*);
+                                  TrilinosWrappers::SparseMatrix*, const ResidualWeights&);
+  template void assemble_mass<2>(const DoFHandler<2>&, const SolidModel<2>&, const AffineConstraints<double>&,
+                                 TrilinosWrappers::SparseMatrix&);
+  template void assemble_mass<3>(const DoFHandler<3>&, const SolidModel<3>&, const AffineConstraints<double>&,
+                                 TrilinosWrappers::SparseMatrix&);
+  template double strain_energy<2>(const DoFHandler<2>&, const SolidModel<2>&, const TrilinosWrappers::MPI::Vector&);
+  template double strain_energy<3>(const DoFHandler<3>&, const SolidModel<3>&, const TrilinosWrappers::MPI::Vector&);
   template void cell_cauchy_stress<2>(const DoFHandler<2>&, const SolidModel<2>&,
                                       const TrilinosWrappers::MPI::Vector&, std::vector<Vector<float>>&,
                                       Vector<float>&);

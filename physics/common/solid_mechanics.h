@@ -28,18 +28,40 @@ namespace physics
     std::map<dealii::types::material_id, std::shared_ptr<const HyperelasticMaterial<dim>>> materials;
     /// Dead nominal traction (force per reference area) per boundary id.
     std::map<dealii::types::boundary_id, dealii::Tensor<1, dim>> tractions;
+    /// Reference mass density per cell material id (dynamics only; kg/m^3, per m in 2D).
+    std::map<dealii::types::material_id, double> densities;
   };
 
-  /// Assembles r(u) (and K(u) if `tangent` is not null) over the locally owned cells, through the
-  /// homogeneous `constraints` (Dirichlet DOFs get zero residual and a diagonal entry). `u` must
-  /// hold the locally relevant entries. Throws std::domain_error if an element inverts, and
-  /// std::invalid_argument for a cell whose material id has no law.
+  /// Weights of a time-integrated residual  w_f r(u) + c_m M u  and its Jacobian
+  /// w_f K(u) + c_m M (see time_integration.h). The defaults are the quasi-static residual.
+  struct ResidualWeights
+  {
+    double force = 1.0; ///< w_f
+    double mass  = 0.0; ///< c_m (needs SolidModel::densities)
+  };
+
+  /// Assembles r(u) (and K(u) if `tangent` is not null) over the locally owned cells, through
+  /// `constraints` (Dirichlet DOFs get a diagonal entry and diagonal x inhomogeneity as residual),
+  /// weighted as `weights` says. `u` must hold the locally relevant entries. Throws
+  /// std::domain_error if an element inverts, and std::invalid_argument for a cell whose material
+  /// id has no law (or no density when weights.mass != 0).
   template <int dim>
   void assemble_solid(const dealii::DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                       const dealii::TrilinosWrappers::MPI::Vector& u,
                       const dealii::AffineConstraints<double>& constraints,
                       dealii::TrilinosWrappers::MPI::Vector& residual,
-                      dealii::TrilinosWrappers::SparseMatrix* tangent);
+                      dealii::TrilinosWrappers::SparseMatrix* tangent, const ResidualWeights& weights = {});
+
+  /// Consistent mass matrix M_ij = int rho0 N_i . N_j dV through `constraints` (empty constraints:
+  /// the unconstrained M). `M` must be initialized with a suitable sparsity pattern.
+  template <int dim>
+  void assemble_mass(const dealii::DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                     const dealii::AffineConstraints<double>& constraints, dealii::TrilinosWrappers::SparseMatrix& M);
+
+  /// Stored energy int psi(F) dV over all cells (summed over the ranks of `u`'s communicator).
+  template <int dim>
+  double strain_energy(const dealii::DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                       const dealii::TrilinosWrappers::MPI::Vector& u);
 
   /// Cell averages of the Cauchy stress (dim*dim components per locally owned cell, in the order
   /// of active cells; zero for cells not owned) and of the von Mises stress, for output.

@@ -42,15 +42,33 @@ namespace physics::contact
                       "Hyperelastic law of both bodies (2D: plane strain).");
     prm.declare_entry("Young's modulus", "10e6", Double(), "E in Pa (> 0).");
     prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu (-1 < nu < 0.5).");
+    prm.declare_entry("Density", "1000", Double(), "Reference mass density in kg/m^3 (> 0; used by dynamics).");
     prm.leave_subsection();
 
     prm.enter_subsection("Loading");
-    prm.declare_entry("Type", "displacement", Selection("displacement|pressure"),
-                      "Prescribed displacement of the loaded face, or a dead nominal pressure on it.");
+    prm.declare_entry("Type", "displacement", Selection("displacement|pressure|none"),
+                      "Prescribed displacement of the loaded face, a dead nominal pressure on it, or no load "
+                      "(dynamics driven by the initial velocity; the loaded id is then ignored).");
     prm.declare_entry("Displacement", "0, -0.02", Anything(),
                       "Total prescribed displacement of the loaded face (dim comma-separated values, m).");
     prm.declare_entry("Pressure", "0", Double(), "Total nominal pressure (Pa, >= 0) for Type = pressure.");
-    prm.declare_entry("Load steps", "4", Integer(1, 100000), "Equal quasi-static load increments.");
+    prm.declare_entry("Load steps", "4", Integer(1, 100000),
+                      "Number of steps: equal quasi-static load increments, or time steps for generalized-alpha. "
+                      "The load ramps linearly over all steps.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time integration");
+    prm.declare_entry("Scheme", "quasi-static", Selection("quasi-static|generalized-alpha"),
+                      "quasi-static: load stepping without inertia. generalized-alpha: implicit dynamics "
+                      "(Chung-Hulbert), contact forces at the same generalized midpoint as the internal forces, "
+                      "contact constraints at the end of the step.");
+    prm.declare_entry("Time step", "1e-3", Double(), "dt in s (> 0; generalized-alpha).");
+    prm.declare_entry("Spectral radius", "1", Double(),
+                      "rho_inf in [0, 1]: 1 = no numerical dissipation (trapezoidal rule), smaller values damp "
+                      "the highest frequencies.");
+    prm.declare_entry("Initial velocity", "", Anything(),
+                      "Initial velocity of the slave body (dim comma-separated values, m/s; empty: at rest). The "
+                      "master body starts at rest.");
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");
@@ -83,6 +101,7 @@ namespace physics::contact
     prm.declare_entry("Directory", "output/contact", Anything(),
                       "Run log (run_log.jsonl), VTK (solution.pvd + pvtu per load step), exported systems.");
     prm.declare_entry("VTK", "true", Bool(), "Write solution_NNN.pvtu per load step and solution.pvd.");
+    prm.declare_entry("VTK interval", "1", Integer(1, 100000), "Write VTK every this many steps (and the last).");
     prm.declare_entry("Export systems", "false", Bool(),
                       "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN (for "
                       "solve_block_system --system).");
@@ -104,6 +123,27 @@ namespace physics::contact
       if (!(v > 0 && v < 1))
         throw std::invalid_argument("parameter " + name + ": expected 0 < tol < 1");
       return v;
+    }
+
+    /// Comma-separated numbers of parameter `name`.
+    std::vector<double> numbers(const std::string& text, const std::string& name)
+    {
+      std::vector<double> values;
+      for (const auto& s : dealii::Utilities::split_string_list(text, ','))
+        {
+          try
+            {
+              std::size_t end = 0;
+              values.push_back(std::stod(s, &end));
+              if (end != s.size())
+                throw std::invalid_argument("");
+            }
+          catch (const std::exception&)
+            {
+              throw std::invalid_argument("parameter '" + name + "': '" + s + "' is not a number");
+            }
+        }
+      return values;
     }
   } // namespace
 
@@ -147,6 +187,7 @@ namespace physics::contact
     law            = prm.get("Law");
     youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus");
     poisson_ratio  = prm.get_double("Poisson's ratio");
+    density        = positive(prm.get_double("Density"), "Density");
     if (!(poisson_ratio > -1 && poisson_ratio < 0.5))
       throw std::invalid_argument("parameter 'Poisson's ratio': expected -1 < nu < 0.5, got " +
                                   std::to_string(poisson_ratio));
@@ -154,18 +195,7 @@ namespace physics::contact
 
     prm.enter_subsection("Loading");
     load_type = prm.get("Type");
-    displacement.clear();
-    for (const auto& s : dealii::Utilities::split_string_list(prm.get("Displacement"), ','))
-      {
-        try
-          {
-            displacement.push_back(std::stod(s));
-          }
-        catch (const std::exception&)
-          {
-            throw std::invalid_argument("parameter 'Displacement': '" + s + "' is not a number");
-          }
-      }
+    displacement = numbers(prm.get("Displacement"), "Displacement");
     if (load_type == "displacement" && static_cast<int>(displacement.size()) != dimension)
       throw std::invalid_argument("parameter 'Displacement': expected " + std::to_string(dimension) +
                                   " components, got " + std::to_string(displacement.size()));
@@ -173,6 +203,23 @@ namespace physics::contact
     if (pressure < 0)
       throw std::invalid_argument("parameter 'Pressure': expected a value >= 0, got " + std::to_string(pressure));
     load_steps = prm.get_integer("Load steps");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time integration");
+    scheme           = prm.get("Scheme");
+    time_step        = positive(prm.get_double("Time step"), "Time step");
+    spectral_radius  = prm.get_double("Spectral radius");
+    if (!(spectral_radius >= 0 && spectral_radius <= 1))
+      throw std::invalid_argument("parameter 'Spectral radius': expected 0 <= rho <= 1, got " +
+                                  std::to_string(spectral_radius));
+    initial_velocity = numbers(prm.get("Initial velocity"), "Initial velocity");
+    if (!initial_velocity.empty() && static_cast<int>(initial_velocity.size()) != dimension)
+      throw std::invalid_argument("parameter 'Initial velocity': expected " + std::to_string(dimension) +
+                                  " components, got " + std::to_string(initial_velocity.size()));
+    if (!dynamic() && !initial_velocity.empty())
+      throw std::invalid_argument("parameter 'Initial velocity': needs Scheme = generalized-alpha");
+    if (!dynamic() && load_type == "none")
+      throw std::invalid_argument("parameter 'Type' (Loading): 'none' needs Scheme = generalized-alpha");
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");
@@ -201,6 +248,7 @@ namespace physics::contact
     output_directory = prm.get("Directory");
     vtk              = prm.get_bool("VTK");
     export_systems   = prm.get_bool("Export systems");
+    vtk_interval     = prm.get_integer("VTK interval");
     prm.leave_subsection();
   }
 } // namespace physics::contact

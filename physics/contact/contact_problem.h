@@ -1,6 +1,7 @@
-// Quasi-static frictionless mortar contact of two hyperelastic bodies (2D plane strain or 3D):
-// mesh from gmsh, load stepping, semi-smooth Newton with the contact active set updated inside
-// the Newton loop, each linear system solved by GMRES with a block-AMG preset of multigrid/.
+// Frictionless mortar contact of two hyperelastic bodies (2D plane strain or 3D), quasi-static
+// (load stepping) or dynamic (generalized-alpha, common/time_integration.h): mesh from gmsh,
+// semi-smooth Newton with the contact active set updated inside the Newton loop, each linear
+// system solved by GMRES with a block-AMG preset of multigrid/.
 #pragma once
 
 #include "contact/mortar_contact.h"
@@ -28,10 +29,15 @@ namespace physics::contact
     std::string law           = "NeoHooke";
     double      youngs_modulus = 10e6, poisson_ratio = 0.3;
     // Loading
-    std::string         load_type = "displacement"; ///< displacement | pressure
+    std::string         load_type = "displacement"; ///< displacement | pressure | none
     std::vector<double> displacement{0.0, -0.02};   ///< total prescribed displacement of the loaded face
     double              pressure = 0.0;             ///< total nominal pressure on the loaded face
-    int                 load_steps = 4;
+    int                 load_steps = 4;             ///< load increments, or time steps (dynamics)
+    // Time integration
+    std::string         scheme = "quasi-static";    ///< quasi-static | generalized-alpha
+    double              time_step = 1e-3, spectral_radius = 1.0;
+    double              density   = 1000;           ///< both bodies, kg/m^3 (dynamics)
+    std::vector<double> initial_velocity;           ///< slave body (dynamics), empty: at rest
     // Contact
     bool   dual                   = true;
     double complementarity_factor = 1.0; ///< c_n = factor * E / h
@@ -47,6 +53,9 @@ namespace physics::contact
     // Output
     std::string output_directory = "output/contact";
     bool        vtk = true, export_systems = false;
+    int         vtk_interval = 1; ///< write VTK every this many steps (and the last)
+
+    bool dynamic() const { return scheme == "generalized-alpha"; }
 
     static void declare(dealii::ParameterHandler& prm);
     /// Reads and checks every value; throws std::invalid_argument "parameter 'X': ..." for values
@@ -71,6 +80,8 @@ namespace physics::contact
     double                             max_displacement = 0; ///< max |u| over all nodes
     double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
     double                             linear_seconds = 0, setup_seconds = 0;
+    // Dynamics: after each time step (index 0: the initial state)
+    std::vector<double> time, kinetic_energy, strain_energy;
   };
 
   /// Runs the whole simulation. Input errors (mesh, ids, parameters) throw std::invalid_argument
