@@ -3,7 +3,7 @@
 #include "common/mesh_input.h"
 #include "common/run_output.h"
 #include "common/solid_mechanics.h"
-#include "common/time_integration.h"
+#include "common/solid_dynamics.h"
 #include "contact/contact_block_system.h"
 
 #include "block_preconditioner.h"
@@ -21,16 +21,12 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/trilinos_precondition.h>
-#include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
 #include <filesystem>
 #include <iomanip>
-#include <optional>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -58,16 +54,13 @@ namespace physics::contact
       std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
       void write_output(int step, double time);
 
-      // Dynamics (generalized-alpha; see common/time_integration.h).
-      /// Mass matrix, initial velocity of the slave body, initial acceleration from M a0 = -r(u0).
+      // Dynamics (generalized-alpha; see common/solid_dynamics.h).
+      /// Mass matrix, initial velocity of the slave body, initial acceleration.
       void setup_dynamics();
-      /// Before a time step's Newton loop (loads still at t_n): h_n and u_n.
-      void begin_time_step();
       /// After convergence: v_{n+1}, a_{n+1}, the contact force of t_{n+1}, energies.
       void end_time_step(int step, double time, ContactRunSummary& summary);
       /// Contact forces at the generalized midpoint: (1 - af) (this step) + af (previous step).
       void weight_contact_forces(ContactContribution& contribution);
-      double kinetic_energy() const;
 
       const ContactParameters& p_;
       MPI_Comm                 comm_;
@@ -86,9 +79,7 @@ namespace physics::contact
       std::unique_ptr<MortarContact<dim>>  contact_;
       std::vector<OwnedNode<dim>>          owned_nodes_;
 
-      std::optional<GeneralizedAlpha>           alpha_;
-      TrilinosWrappers::SparseMatrix            mass_; ///< unconstrained
-      TrilinosWrappers::MPI::Vector             u_old_, v_, a_, history_;
+      std::unique_ptr<SolidDynamics<dim>> dynamics_; ///< null: quasi-static
       /// This rank's share of the contact force D^T lambda - M^T lambda at t_n and at the latest
       /// evaluation.
       std::map<GlobalIndex, double> contact_force_old_, contact_force_new_;
@@ -251,7 +242,7 @@ namespace physics::contact
              << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_slave_nodes()
              << " multipliers (" << (p_.dual ? "dual" : "standard") << "), " << Utilities::MPI::n_mpi_processes(comm_)
              << " ranks, preset " << p_.preset;
-      if (alpha_)
+      if (dynamics_)
         pcout_ << ", generalized-alpha (rho_inf " << p_.spectral_radius << ", dt " << p_.time_step << " s)";
       pcout_ << "\n";
     }
@@ -259,72 +250,32 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::setup_dynamics()
     {
-      alpha_.emplace(p_.spectral_radius, p_.time_step);
       for (const auto& cell : tria_.active_cell_iterators())
         model_.densities[cell->material_id()] = p_.density;
-      DynamicSparsityPattern full(relevant_.size(), relevant_.size(), relevant_);
-      DoFTools::make_sparsity_pattern(dof_handler_, full);
-      SparsityTools::distribute_sparsity_pattern(full, owned_, comm_, relevant_);
-      mass_.reinit(owned_, owned_, full, comm_);
-      assemble_mass(dof_handler_, model_, AffineConstraints<double>(), mass_);
-
-      u_old_.reinit(owned_, comm_);
-      v_.reinit(owned_, comm_);
-      a_.reinit(owned_, comm_);
-      history_.reinit(owned_, comm_);
+      dynamics_ = std::make_unique<SolidDynamics<dim>>(p_.spectral_radius, p_.time_step, dof_handler_, model_, owned_,
+                                                       relevant_, comm_);
+      auto& v = dynamics_->velocity();
       if (!p_.initial_velocity.empty())
         for (const auto& node : owned_nodes_)
           if (node.slave_body)
             for (unsigned int d = 0; d < dim; ++d)
               if (!constraints_.is_constrained(node.dofs[d]))
-                v_[node.dofs[d]] = p_.initial_velocity[d];
-      v_.compress(VectorOperation::insert);
-
-      // a0 from M a0 = -r(u0, t0) on the free DOFs (zero for an unloaded body at rest or in
-      // rigid motion); contact forces are zero at t0 (lambda = 0).
+                v[node.dofs[d]] = p_.initial_velocity[d];
+      v.compress(VectorOperation::insert);
       set_prescribed_values(0.0);
-      TrilinosWrappers::MPI::Vector r(owned_, comm_);
-      u_ghosted_ = u_;
-      assemble_solid(dof_handler_, model_, u_ghosted_, constraints_, r, nullptr);
-      if (r.l2_norm() > 0)
-        {
-          TrilinosWrappers::SparseMatrix M;
-          M.reinit(owned_, owned_, structural_pattern_, comm_);
-          assemble_mass(dof_handler_, model_, constraints_, M);
-          r *= -1.0;
-          SolverControl                       control(1000, 1e-12 * r.l2_norm());
-          TrilinosWrappers::SolverCG          cg(control);
-          TrilinosWrappers::PreconditionJacobi jacobi;
-          jacobi.initialize(M);
-          cg.solve(M, a_, r, jacobi);
-        }
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::begin_time_step()
-    {
-      // r(u_n, t_n) without constraints (the prescribed rows are not equations of motion; they
-      // are zeroed in h below), then h_n = M b_n + af r_n.
-      TrilinosWrappers::MPI::Vector r_old(owned_, comm_);
-      u_ghosted_ = u_;
-      assemble_solid(dof_handler_, model_, u_ghosted_, AffineConstraints<double>(), r_old, nullptr);
-      alpha_->history(mass_, u_, v_, a_, r_old, history_);
-      for (const auto i : owned_)
-        if (constraints_.is_constrained(i))
-          history_[i] = 0.0;
-      history_.compress(VectorOperation::insert);
-      u_old_ = u_;
+      dynamics_->initial_acceleration(u_, constraints_); // contact forces are zero at t0 (lambda = 0)
     }
 
     template <int dim>
     void ContactProblem<dim>::weight_contact_forces(ContactContribution& contribution)
     {
       contact_force_new_ = contribution.residual;
-      const double w     = alpha_->force_weight();
+      const auto&  scheme = dynamics_->scheme();
+      const double w      = scheme.force_weight();
       for (auto& [row, value] : contribution.residual)
         value *= w;
       for (const auto& [row, value] : contact_force_old_)
-        contribution.residual[row] += alpha_->alpha_f() * value;
+        contribution.residual[row] += scheme.alpha_f() * value;
       // Displacement rows' derivatives (w.r.t. u and lambda) carry the same weight; the
       // constraint rows (multiplier indices) are enforced at t_{n+1} and keep theirs.
       for (auto& [row, entries] : contribution.matrix)
@@ -334,23 +285,15 @@ namespace physics::contact
     }
 
     template <int dim>
-    double ContactProblem<dim>::kinetic_energy() const
-    {
-      TrilinosWrappers::MPI::Vector Mv(owned_, comm_);
-      mass_.vmult(Mv, v_);
-      return 0.5 * (Mv * v_);
-    }
-
-    template <int dim>
     void ContactProblem<dim>::end_time_step(int step, double time, ContactRunSummary& summary)
     {
       if (step > 0)
         {
-          alpha_->update(u_, u_old_, v_, a_);
+          dynamics_->end_step(u_);
           contact_force_old_ = contact_force_new_; // the converged state's (last evaluation)
         }
       u_ghosted_           = u_;
-      const double kinetic = kinetic_energy(), strain = strain_energy(dof_handler_, model_, u_ghosted_);
+      const double kinetic = dynamics_->kinetic_energy(), strain = strain_energy(dof_handler_, model_, u_ghosted_);
       summary.time.push_back(time);
       summary.kinetic_energy.push_back(kinetic);
       summary.strain_energy.push_back(strain);
@@ -444,18 +387,17 @@ namespace physics::contact
 
       TrilinosWrappers::SparseMatrix K;
       TrilinosWrappers::MPI::Vector  residual(owned_, comm_), du(owned_, comm_);
-      if (alpha_)
+      if (dynamics_)
         end_time_step(0, 0.0, summary); // the initial state's energies
       pcout_ << "  step newton   |residual|     |r_u|      |r_lambda|   active  changed  GMRES  setup[s] solve[s]\n";
-      const ResidualWeights weights =
-          alpha_ ? ResidualWeights{alpha_->force_weight(), alpha_->mass_coefficient()} : ResidualWeights{};
+      const ResidualWeights weights = dynamics_ ? dynamics_->weights() : ResidualWeights{};
       for (int step = 1; step <= p_.load_steps; ++step)
         {
           const double load_factor = static_cast<double>(step) / p_.load_steps;
           // Pseudo-time = load factor (quasi-static), physical time (dynamics).
-          const double time = alpha_ ? step * alpha_->time_step() : load_factor;
-          if (alpha_)
-            begin_time_step(); // before the loads move on to t_{n+1}
+          const double time = dynamics_ ? step * p_.time_step : load_factor;
+          if (dynamics_)
+            dynamics_->begin_step(u_, constraints_); // before the loads move on to t_{n+1}
           set_prescribed_values(load_factor);
           double            r0 = 0;
           std::vector<bool> previous_active;
@@ -467,7 +409,7 @@ namespace physics::contact
               ContactContribution contribution;
               contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), lambda_,
                                  is_constrained, comm_, contribution);
-              if (alpha_)
+              if (dynamics_)
                 weight_contact_forces(contribution);
               const auto& state = contact_->state();
               int         n_active = 0, n_changed = 0;
@@ -483,8 +425,8 @@ namespace physics::contact
               residual = 0;
               assemble_solid(dof_handler_, model_, u_ghosted_, it == 0 ? increment_constraints() : constraints_,
                              residual, &K, weights);
-              if (alpha_)
-                residual += history_;
+              if (dynamics_)
+                residual += dynamics_->history();
               const auto rows = send_rows_to_owners(contribution.matrix, owner, comm_);
               std::map<GlobalIndex, double> pieces = contribution.residual;
               for (const auto& [row, value] : contribution.constraint_residual)
@@ -576,7 +518,7 @@ namespace physics::contact
             }
           summary.newton_iterations.push_back(static_cast<int>(summary.residuals.back().size()) - 1);
           summary.load_steps_done = step;
-          if (alpha_ && converged)
+          if (dynamics_ && converged)
             end_time_step(step, time, summary);
           if (p_.vtk && (step % p_.vtk_interval == 0 || step == p_.load_steps || !converged))
             write_output(step, time);
@@ -648,10 +590,10 @@ namespace physics::contact
           dim, DataComponentInterpretation::component_is_part_of_vector);
       out.add_data_vector(u_ghosted_, std::vector<std::string>(dim, "displacement"), DataOut<dim>::type_dof_data, vector_field);
       TrilinosWrappers::MPI::Vector velocity;
-      if (alpha_)
+      if (dynamics_)
         {
           velocity.reinit(owned_, relevant_, comm_);
-          velocity = v_;
+          velocity = dynamics_->velocity();
           out.add_data_vector(velocity, std::vector<std::string>(dim, "velocity"), DataOut<dim>::type_dof_data,
                               vector_field);
         }
