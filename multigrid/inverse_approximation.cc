@@ -1,0 +1,219 @@
+#include "inverse_approximation.h"
+
+#include <Teuchos_LAPACK.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_RowMatrixTransposer.hpp>
+#include <Xpetra_CrsMatrixWrap.hpp>
+#include <Xpetra_MatrixMatrix.hpp>
+#include <Xpetra_TpetraCrsMatrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace multigrid
+{
+  namespace
+  {
+    using Teuchos::rcp;
+
+    /// One locally owned or imported row as (global column, value) pairs.
+    void global_row(const TpetraMatrix& A, LO local_row, std::vector<GO>& cols, std::vector<SC>& vals)
+    {
+      typename TpetraMatrix::local_inds_host_view_type inds;
+      typename TpetraMatrix::values_host_view_type     values;
+      A.getLocalRowView(local_row, inds, values);
+      cols.resize(inds.extent(0));
+      vals.resize(inds.extent(0));
+      for (std::size_t k = 0; k < inds.extent(0); ++k)
+        {
+          cols[k] = A.getColMap()->getGlobalElement(inds(k));
+          vals[k] = values(k);
+        }
+    }
+
+    RCP<TpetraMatrix> transpose(const TpetraMatrix& A)
+    {
+      Tpetra::RowMatrixTransposer<SC, LO, GO, NO> transposer(Teuchos::rcpFromRef(A));
+      return transposer.createTranspose();
+    }
+
+    /// diag(A)^-1 or the row-sum lumped inverse.
+    RCP<TpetraMatrix> diagonal_inverse(const TpetraMatrix& A, bool lumped)
+    {
+      auto               D = rcp(new TpetraMatrix(A.getRowMap(), 1));
+      std::vector<GO>    cols;
+      std::vector<SC>    vals;
+      for (LO i = 0; i < static_cast<LO>(A.getNodeNumRows()); ++i)
+        {
+          const GO row = A.getRowMap()->getGlobalElement(i);
+          global_row(A, i, cols, vals);
+          double diagonal = 0, row_sum = 0;
+          for (std::size_t k = 0; k < cols.size(); ++k)
+            {
+              if (cols[k] == row)
+                diagonal = vals[k];
+              row_sum += std::abs(vals[k]);
+            }
+          if (diagonal == 0)
+            throw InputError("inverse approximation '" + std::string(lumped ? "lumping" : "diagonal") +
+                             "': zero diagonal in row " + std::to_string(row));
+          const double value = lumped ? (diagonal > 0 ? 1.0 : -1.0) / row_sum : 1.0 / diagonal;
+          D->insertGlobalValues(row, Teuchos::tuple<GO>(row), Teuchos::tuple<SC>(value));
+        }
+      D->fillComplete(A.getDomainMap(), A.getRangeMap());
+      return D;
+    }
+
+    /// Rows `rows` (global ids) of A, imported from their owners, fill-complete.
+    RCP<TpetraMatrix> import_rows(const TpetraMatrix& A, const RCP<const Tpetra::Map<LO, GO, NO>>& rows)
+    {
+      Tpetra::Import<LO, GO, NO> importer(A.getRowMap(), rows);
+      size_t                     longest = 0;
+      Teuchos::reduceAll(*A.getComm(), Teuchos::REDUCE_MAX, A.getNodeMaxNumRowEntries(), Teuchos::outArg(longest));
+      auto imported = rcp(new TpetraMatrix(rows, longest));
+      imported->doImport(A, importer, Tpetra::INSERT);
+      imported->fillComplete(A.getDomainMap(), A.getRangeMap());
+      return imported;
+    }
+
+    /// Least-squares SPAI, row by row on A^T (see the header).
+    RCP<TpetraMatrix> spai(const TpetraMatrix& A, const InverseApproximationOptions& options)
+    {
+      const RCP<TpetraMatrix> At = transpose(A);
+      RCP<TpetraMatrix>       pattern = At;
+      if (options.pattern_power == 2)
+        {
+          pattern = rcp(new TpetraMatrix(At->getRowMap(), 0));
+          Tpetra::MatrixMatrix::Multiply(*At, false, *At, false, *pattern);
+        }
+      // The rows of A^T that any local pattern row needs: the pattern's column map.
+      const RCP<TpetraMatrix> columns = import_rows(*At, pattern->getColMap());
+
+      // Tpetra 13.2 allocates rows statically: room for the longest pattern row (+ diagonal).
+      auto At_inverse = rcp(new TpetraMatrix(At->getRowMap(), pattern->getNodeMaxNumRowEntries() + 1));
+      Teuchos::LAPACK<int, double> lapack;
+      std::vector<GO>        J, cols;
+      std::vector<SC>        vals, C, rhs, work;
+      for (LO k = 0; k < static_cast<LO>(pattern->getNodeNumRows()); ++k)
+        {
+          const GO row = pattern->getRowMap()->getGlobalElement(k);
+          // J_k: the pattern row after dropping small entries (the diagonal always stays).
+          global_row(*pattern, k, cols, vals);
+          double largest = 0;
+          for (const double v : vals)
+            largest = std::max(largest, std::abs(v));
+          J.clear();
+          for (std::size_t q = 0; q < cols.size(); ++q)
+            if (cols[q] == row || std::abs(vals[q]) >= options.drop_tolerance * largest)
+              J.push_back(cols[q]);
+          if (std::find(J.begin(), J.end(), row) == J.end())
+            J.push_back(row);
+          // I_k and the dense block C = A(I_k, J_k) (column-major, leading dimension |I_k|).
+          std::map<GO, int> I;
+          std::vector<std::vector<std::pair<GO, SC>>> rows_of_J(J.size());
+          for (std::size_t j = 0; j < J.size(); ++j)
+            {
+              global_row(*columns, columns->getRowMap()->getLocalElement(J[j]), cols, vals);
+              for (std::size_t q = 0; q < cols.size(); ++q)
+                {
+                  I.emplace(cols[q], 0);
+                  rows_of_J[j].emplace_back(cols[q], vals[q]);
+                }
+            }
+          int position = 0;
+          for (auto& [gid, index] : I)
+            index = position++;
+          const int m = static_cast<int>(I.size()), n = static_cast<int>(J.size());
+          C.assign(static_cast<std::size_t>(m) * n, 0.0);
+          for (int j = 0; j < n; ++j)
+            for (const auto& [gid, value] : rows_of_J[j])
+              C[static_cast<std::size_t>(j) * m + I[gid]] = value;
+          rhs.assign(std::max(m, n), 0.0);
+          if (const auto diagonal = I.find(row); diagonal != I.end())
+            rhs[diagonal->second] = 1.0;
+          // min ||C x - e_k||_2 by QR (C has full column rank for a nonsingular A).
+          int info = 0;
+          work.resize(1);
+          lapack.GELS('N', m, n, 1, C.data(), m, rhs.data(), std::max(m, n), work.data(), -1, &info);
+          work.resize(static_cast<std::size_t>(work[0]));
+          lapack.GELS('N', m, n, 1, C.data(), m, rhs.data(), std::max(m, n), work.data(),
+                      static_cast<int>(work.size()), &info);
+          if (info != 0)
+            throw std::runtime_error("SPAI: least-squares problem of row " + std::to_string(row) +
+                                     " is rank deficient (LAPACK info " + std::to_string(info) + ")");
+          At_inverse->insertGlobalValues(row, Teuchos::ArrayView<const GO>(J.data(), n),
+                                         Teuchos::ArrayView<const SC>(rhs.data(), n));
+        }
+      At_inverse->fillComplete(At->getDomainMap(), At->getRangeMap());
+      return transpose(*At_inverse);
+    }
+  } // namespace
+
+  RCP<TpetraMatrix> approximate_inverse(const TpetraMatrix& A, const InverseApproximationOptions& options)
+  {
+    if (options.drop_tolerance < 0)
+      throw InputError("inverse approximation: drop tolerance must be >= 0, got " +
+                       std::to_string(options.drop_tolerance));
+    if (options.type == "diagonal" || options.type == "lumping")
+      return diagonal_inverse(A, options.type == "lumping");
+    if (options.type == "spai")
+      {
+        if (options.pattern_power != 1 && options.pattern_power != 2)
+          throw InputError("inverse approximation 'spai': pattern power must be 1 (A) or 2 (A^2), got " +
+                           std::to_string(options.pattern_power));
+        return spai(A, options);
+      }
+    throw InputError("unknown inverse approximation '" + options.type + "' (expected diagonal, lumping or spai)");
+  }
+
+  RCP<Matrix> approximate_inverse(const Matrix& A, const InverseApproximationOptions& options)
+  {
+    const TpetraMatrix& tA      = Xpetra::Helpers<SC, LO, GO, NO>::Op2TpetraCrs(A);
+    RCP<TpetraMatrix>   inverse = approximate_inverse(tA, options);
+    RCP<CrsMatrix>      wrapped = rcp(new Xpetra::TpetraCrsMatrix<SC, LO, GO, NO>(inverse));
+    return rcp(new Xpetra::CrsMatrixWrap<SC, LO, GO, NO>(wrapped));
+  }
+
+  double inverse_residual_norm(const TpetraMatrix& A, const TpetraMatrix& A_inverse)
+  {
+    TpetraMatrix product(A.getRowMap(), 0);
+    Tpetra::MatrixMatrix::Multiply(A, false, A_inverse, false, product);
+    std::vector<GO> cols;
+    std::vector<SC> vals;
+    double          sum = 0;
+    for (LO i = 0; i < static_cast<LO>(product.getNodeNumRows()); ++i)
+      {
+        const GO row = product.getRowMap()->getGlobalElement(i);
+        global_row(product, i, cols, vals);
+        bool has_diagonal = false;
+        for (std::size_t k = 0; k < cols.size(); ++k)
+          {
+            const double e = vals[k] - (cols[k] == row ? 1.0 : 0.0);
+            has_diagonal |= cols[k] == row;
+            sum += e * e;
+          }
+        if (!has_diagonal)
+          sum += 1.0;
+      }
+    double total = 0;
+    Teuchos::reduceAll(*A.getComm(), Teuchos::REDUCE_SUM, sum, Teuchos::outArg(total));
+    return std::sqrt(total);
+  }
+
+  void spai_smooth(const TpetraMatrix& A, const TpetraMatrix& A_inverse, const TpetraMultiVector& b,
+                   TpetraMultiVector& x, int sweeps, double damping)
+  {
+    TpetraMultiVector r(b.getMap(), b.getNumVectors());
+    for (int s = 0; s < sweeps; ++s)
+      {
+        A.apply(x, r);
+        r.update(1.0, b, -1.0); // r = b - A x
+        A_inverse.apply(r, x, Teuchos::NO_TRANS, damping, 1.0);
+      }
+  }
+} // namespace multigrid

@@ -1,0 +1,52 @@
+// Sparse approximations Â ≈ A^-1, for what MueLu 13.2 lacks (no InverseApproximationFactory):
+// the Schur complement S = C - B Â^-1 B^T of the beam/solid preset `schur-sa-amg(spai)` (seed
+// 001) and the SPAI smoother x <- x - Â (A x - b).
+//
+//   diagonal   Â = diag(A)^-1
+//   lumping    Â = diag(sign(a_ii) / sum_j |a_ij|)       (row-sum lumping)
+//   spai       Â = argmin ||A Â - I||_F over a prescribed sparsity pattern P
+//
+// The Frobenius norm decouples into one small least-squares problem per column k of Â:
+//   min || A(I_k, J_k) m_k - e_k(I_k) ||_2,
+// J_k = the pattern of column k (the rows of P in column k), I_k = the rows of A that have a
+// nonzero in one of the columns J_k (all other rows of A(:, J_k) vanish). Columns of A are rows of
+// A^T, so the algorithm runs row-wise on A^T (rows of A^T in J_k imported from their owners) and
+// produces Â^T row by row; Â is its transpose. P is the pattern of A (power 1) or of A^2 (power
+// 2), of A^T's rows, with entries dropped where |p_kj| < drop_tolerance * max_j |p_kj| (the
+// diagonal is always kept). For symmetric A the pattern is symmetric, and Â is nonsymmetric in
+// general; a larger pattern never increases ||A Â - I||_F (the minimization space grows).
+#pragma once
+
+#include "types.h"
+
+#include <Tpetra_CrsMatrix_fwd.hpp>
+#include <Tpetra_MultiVector_fwd.hpp>
+
+#include <string>
+
+namespace multigrid
+{
+  using TpetraMatrix      = Tpetra::CrsMatrix<SC, LO, GO, NO>;
+  using TpetraMultiVector = Tpetra::MultiVector<SC, LO, GO, NO>;
+
+  struct InverseApproximationOptions
+  {
+    std::string type           = "spai"; ///< diagonal | lumping | spai
+    int         pattern_power  = 1;      ///< spai: pattern of A (1) or of A^2 (2)
+    double      drop_tolerance = 0.0;    ///< spai: relative to the largest entry of the pattern row
+  };
+
+  /// Â for A (square, fill-complete, row map = range map). Throws InputError for an unknown type,
+  /// a pattern power other than 1 or 2, a negative drop tolerance, or a zero diagonal (diagonal /
+  /// lumping).
+  Teuchos::RCP<TpetraMatrix> approximate_inverse(const TpetraMatrix& A, const InverseApproximationOptions& options);
+  /// The same on an Xpetra matrix (Tpetra underneath).
+  RCP<Matrix> approximate_inverse(const Matrix& A, const InverseApproximationOptions& options);
+
+  /// ||A Â - I||_F (global).
+  double inverse_residual_norm(const TpetraMatrix& A, const TpetraMatrix& A_inverse);
+
+  /// `sweeps` steps of x <- x + damping Â (b - A x).
+  void spai_smooth(const TpetraMatrix& A, const TpetraMatrix& A_inverse, const TpetraMultiVector& b,
+                   TpetraMultiVector& x, int sweeps, double damping = 1.0);
+} // namespace multigrid
