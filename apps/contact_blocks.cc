@@ -3,6 +3,7 @@
 //
 //   mpirun -np 2 contact_blocks apps/contact_blocks_2d.prm
 //   contact_blocks --print-parameters      (all parameters with their documentation)
+#include "common/app_parameters.h"
 #include "contact/contact_problem.h"
 #include "types.h"
 
@@ -41,72 +42,10 @@ int main(int argc, char** argv)
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::contact::ContactParameters::declare(prm);
-  std::string              file;
-  std::vector<std::string> sets;
-  for (int i = 1; i < argc; ++i)
-    {
-      const std::string a = argv[i];
-      if (a == "--help" || a == "-h")
-        {
-          if (root)
-            std::cout << usage;
-          return 0;
-        }
-      if (a == "--print-parameters")
-        {
-          if (root)
-            prm.print_parameters(std::cout, dealii::ParameterHandler::Text);
-          return 0;
-        }
-      if (a == "--set" && i + 1 < argc)
-        sets.push_back(argv[++i]);
-      else if (!a.empty() && a[0] != '-' && file.empty())
-        file = a;
-      else
-        {
-          if (root)
-            std::cerr << "contact_blocks: unknown argument '" << a << "' (see --help)\n";
-          return 2;
-        }
-    }
   try
     {
-      if (!file.empty())
-        {
-          if (!std::filesystem::is_regular_file(file))
-            throw std::invalid_argument(file + ": parameter file not found");
-          try
-            {
-              prm.parse_input(file, "", true, true);
-            }
-          catch (const dealii::ExceptionBase& e)
-            {
-              std::string what = e.what();
-              const auto  pos  = what.find("Additional information:");
-              what             = pos == std::string::npos ? "cannot parse" : what.substr(pos + 24);
-              std::string line;
-              for (char c : what)
-                line += (c == '\n') ? ' ' : c;
-              throw std::invalid_argument(file + ": " + line.substr(0, 300));
-            }
-        }
-      for (const auto& s : sets)
-        {
-          const auto eq = s.find('='), slash = s.rfind('/', eq);
-          if (eq == std::string::npos || slash == std::string::npos)
-            throw std::invalid_argument("--set '" + s + "': expected Section/Entry=value");
-          prm.enter_subsection(s.substr(0, slash));
-          try
-            {
-              prm.set(s.substr(slash + 1, eq - slash - 1), s.substr(eq + 1));
-            }
-          catch (const dealii::ExceptionBase&)
-            {
-              prm.leave_subsection();
-              throw std::invalid_argument("--set '" + s + "': unknown parameter or value out of its pattern");
-            }
-          prm.leave_subsection();
-        }
+      if (!physics::read_command_line(argc, argv, usage, prm, root))
+        return 0;
       physics::contact::ContactParameters p;
       p.parse(prm);
       const auto summary = physics::contact::run_contact(p, MPI_COMM_WORLD);

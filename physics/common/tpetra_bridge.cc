@@ -53,6 +53,32 @@ namespace physics
     return B;
   }
 
+  RCP<Matrix> matrix_from_rows(MPI_Comm comm, GO n_total, const std::vector<GO>& gids,
+                               const std::vector<std::map<GO, double>>& rows)
+  {
+    auto        row_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_total,
+                                                                Teuchos::ArrayView<const GO>(gids), 0, teuchos_comm(comm));
+    std::size_t longest = 1;
+    for (const auto& row : rows)
+      longest = std::max(longest, row.size());
+    RCP<Matrix>     A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, longest);
+    std::vector<GO> columns;
+    std::vector<SC> values;
+    for (std::size_t i = 0; i < gids.size(); ++i)
+      {
+        columns.clear();
+        values.clear();
+        for (const auto& [c, v] : rows[i])
+          {
+            columns.push_back(c);
+            values.push_back(v);
+          }
+        A->insertGlobalValues(gids[i], columns, values);
+      }
+    A->fillComplete();
+    return A;
+  }
+
   RCP<MultiVector> to_xpetra(const dealii::TrilinosWrappers::MPI::Vector& v, const RCP<const Map>& map)
   {
     auto x    = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, 1);

@@ -15,6 +15,9 @@
 
 #include <mpi.h>
 
+#include <map>
+#include <vector>
+
 namespace physics
 {
   /// Teuchos communicator over the same MPI communicator deal.II uses.
@@ -29,6 +32,23 @@ namespace physics
   /// Copy of a TrilinosWrappers vector (non-ghosted) as a one-column multivector on `map`.
   multigrid::RCP<multigrid::MultiVector> to_xpetra(const dealii::TrilinosWrappers::MPI::Vector& v,
                                                    const multigrid::RCP<const multigrid::Map>&  map);
+
+  /// Adds the locally owned row `row` of a deal.II matrix to `entries`, columns renamed by
+  /// `column_gid` (from deal.II's numbering to the one of the merged system).
+  template <typename ColumnMap>
+  void add_row(const dealii::TrilinosWrappers::SparseMatrix& A, dealii::types::global_dof_index row,
+               const ColumnMap& column_gid, std::map<multigrid::GO, double>& entries)
+  {
+    for (auto it = A.begin(row); it != A.end(row); ++it)
+      entries[column_gid(it->column())] += it->value();
+  }
+
+  /// The merged matrix of a coupled system from rows in global ids: rows[i] is row gids[i]
+  /// (this rank's rows; together a one-to-one distribution of n_total ids), rhs[i] its
+  /// right-hand side entry. Returns the fill-complete matrix (row map = range = domain map).
+  multigrid::RCP<multigrid::Matrix> matrix_from_rows(MPI_Comm comm, multigrid::GO n_total,
+                                                     const std::vector<multigrid::GO>&               gids,
+                                                     const std::vector<std::map<multigrid::GO, double>>& rows);
 
   /// Writes the locally owned entries of x (one column, same global ids) into v.
   void copy_to_dealii(const multigrid::MultiVector& x, dealii::TrilinosWrappers::MPI::Vector& v);

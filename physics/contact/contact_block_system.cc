@@ -141,25 +141,17 @@ namespace physics::contact
     auto        row_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_total,
                                                                 Teuchos::ArrayView<const GO>(all_gids), 0,
                                                                 teuchos_comm(comm));
-    const Epetra_CrsMatrix& E = K.trilinos_matrix();
-    auto                    b = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(row_map, 1, true);
-    auto                    b_data = b->getDataNonConst(0);
-    std::vector<double>     values(E.MaxNumEntries());
-    std::vector<int>        columns(E.MaxNumEntries());
-    std::vector<std::pair<std::vector<GO>, std::vector<SC>>> matrix_rows(all_gids.size());
-    std::size_t                                               longest = 1;
+    auto b      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(row_map, 1, true);
+    auto b_data = b->getDataNonConst(0);
+    std::vector<std::map<GO, double>> matrix_rows(all_gids.size());
     for (std::size_t i = 0; i < all_gids.size(); ++i)
       {
-        const GlobalIndex    row = result.assembly_index[i];
-        std::map<GO, double> entries;
-        double               r = 0;
+        const GlobalIndex row     = result.assembly_index[i];
+        auto&             entries = matrix_rows[i];
+        double            r       = 0;
         if (row < n_dofs)
           {
-            int       n     = 0;
-            const int local = E.RowMap().LID(static_cast<int>(row));
-            E.ExtractMyRowCopy(local, static_cast<int>(values.size()), n, values.data(), columns.data());
-            for (int k = 0; k < n; ++k)
-              entries[new_gid(static_cast<GlobalIndex>(E.ColMap().GID(columns[k])))] += values[k];
+            add_row(K, row, new_gid, entries);
             r = residual[row];
           }
         if (const auto it = rows.find(row); it != rows.end())
@@ -168,17 +160,8 @@ namespace physics::contact
         if (const auto it = residual_pieces.find(row); it != residual_pieces.end())
           r += it->second;
         b_data[i] = -r;
-        for (const auto& [c, v] : entries)
-          {
-            matrix_rows[i].first.push_back(c);
-            matrix_rows[i].second.push_back(v);
-          }
-        longest = std::max(longest, entries.size());
       }
-    auto A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, longest);
-    for (std::size_t i = 0; i < all_gids.size(); ++i)
-      A->insertGlobalValues(all_gids[i], matrix_rows[i].first, matrix_rows[i].second);
-    A->fillComplete();
+    auto A = matrix_from_rows(comm, n_total, all_gids, matrix_rows);
 
     std::vector<BlockInfo> blocks(2);
     blocks[0].name          = "displacement";

@@ -2,6 +2,8 @@
 // --print-parameters) and range checks with one-line errors naming the parameter.
 #include "contact/contact_problem.h"
 
+#include "common/parameter_checks.h"
+
 #include <deal.II/base/utilities.h>
 
 #include <stdexcept>
@@ -108,44 +110,9 @@ namespace physics::contact
     prm.leave_subsection();
   }
 
-  namespace
-  {
-    double positive(double v, const std::string& name)
-    {
-      if (!(v > 0))
-        throw std::invalid_argument("parameter '" + name + "': expected a positive value, got " + std::to_string(v));
-      return v;
-    }
-
-    /// A tolerance: 0 < v < 1. `name` says which parameter (and, if ambiguous, its section).
-    double tolerance(double v, const std::string& name)
-    {
-      if (!(v > 0 && v < 1))
-        throw std::invalid_argument("parameter " + name + ": expected 0 < tol < 1");
-      return v;
-    }
-
-    /// Comma-separated numbers of parameter `name`.
-    std::vector<double> numbers(const std::string& text, const std::string& name)
-    {
-      std::vector<double> values;
-      for (const auto& s : dealii::Utilities::split_string_list(text, ','))
-        {
-          try
-            {
-              std::size_t end = 0;
-              values.push_back(std::stod(s, &end));
-              if (end != s.size())
-                throw std::invalid_argument("");
-            }
-          catch (const std::exception&)
-            {
-              throw std::invalid_argument("parameter '" + name + "': '" + s + "' is not a number");
-            }
-        }
-      return values;
-    }
-  } // namespace
+  using parameters::numbers;
+  using parameters::positive;
+  using parameters::tolerance;
 
   void ContactParameters::parse(dealii::ParameterHandler& prm)
   {

@@ -1,0 +1,83 @@
+// Penalty coupling of embedded beams to a 3D solid along the beam centrelines (BEAM_SOLID.md,
+// Steinbrecher et al. 2020): the constraint u_B(s) - u_S(X(s)) = 0 with a multiplier field
+// interpolated linearly between the beam nodes (Phi_j), regularized by a penalty,
+//   lambda_j = eps / kappa_j (D d_B - M d_S)_j,   kappa_j = int Phi_j ds,
+//   D_jk = int Phi_j H_k ds   (beam DOFs: positions and, through the Hermite functions, tangents),
+//   M_jl = int Phi_j N_l(X(s)) ds   (solid DOFs),
+// (3 x 3 identity blocks per entry), which adds the coupling forces
+//   f_B = D^T lambda,  f_S = -M^T lambda
+// and their Jacobian  eps [[D^T k^-1 D, -D^T k^-1 M], [-M^T k^-1 D, M^T k^-1 M]]  (constant:
+// the beams are tied to material points of the reference configuration).
+//
+// Integration: "gpts" (Gauss point to segment) uses each beam element's own Gauss points;
+// "mortar" (segment-based) first splits each element where its centreline crosses solid cell
+// faces and integrates every piece with Gauss points. Beam points are located in the solid with
+// deal.II's GridTools::Cache (an R-tree of cell bounding boxes).
+//
+// Parallel: the solid triangulation is a parallel::shared one and the beams are small next to
+// the solid, so every rank computes the (beam-sized) coupling operator redundantly and keeps the
+// rows it owns. Global numbering of the coupled system: beam DOFs [0, n_B) (6 per node),
+// then solid DOFs n_B + (deal.II DOF index).
+#pragma once
+
+#include "beam_solid/kirchhoff_beam.h"
+#include "common/row_exchange.h"
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace physics::beam_solid
+{
+  enum class CouplingMethod
+  {
+    gpts,
+    mortar
+  };
+
+  class BeamSolidCoupling
+  {
+  public:
+    /// Locates the beam integration points in `solid` (Q1 vector FE). Throws std::invalid_argument
+    /// naming `source` when a beam point lies outside the solid.
+    BeamSolidCoupling(const BeamMesh& beam, const dealii::DoFHandler<3>& solid, CouplingMethod method,
+                      int gauss_points, const std::string& source);
+
+    /// One row j of B = [D, -M] (per Cartesian component): column ids of the 3 components and a
+    /// scalar weight.
+    struct Entry
+    {
+      std::array<GlobalIndex, 3> columns;
+      double                     weight;
+    };
+    const std::vector<std::vector<Entry>>& rows() const { return rows_; }
+    const std::vector<double>&             kappa() const { return kappa_; }
+    /// Solid DOFs the coupling reads (ghost them in the solid vector).
+    const std::vector<GlobalIndex>& solid_dofs() const { return solid_dofs_; }
+    /// Number of solid cells the beam integration touched, and integration points.
+    std::size_t n_points() const { return n_points_; }
+
+    /// Gap per multiplier node and component, g_j = (D d_B - M d_S)_j, from the beam DOFs and the
+    /// solid displacement (ghosted, incl. solid_dofs()).
+    std::vector<std::array<double, 3>> gaps(const std::vector<double>& beam_dofs,
+                                            const dealii::TrilinosWrappers::MPI::Vector& solid) const;
+
+    /// Adds eps B^T k^-1 B d to `residual` and eps B^T k^-1 B to `matrix`, for the rows `keep`
+    /// accepts (global numbering of the coupled system).
+    void add_penalty(double epsilon, const std::vector<double>& beam_dofs,
+                     const dealii::TrilinosWrappers::MPI::Vector& solid,
+                     const std::function<bool(GlobalIndex)>& keep, std::map<GlobalIndex, double>& residual,
+                     RowPieces& matrix) const;
+
+  private:
+    unsigned int                    n_beam_dofs_;
+    std::vector<std::vector<Entry>> rows_; ///< per beam node
+    std::vector<double>             kappa_;
+    std::vector<GlobalIndex>        solid_dofs_;
+    std::size_t                     n_points_ = 0;
+  };
+} // namespace physics::beam_solid

@@ -1,0 +1,142 @@
+// The beam_solid app's parameter file: declarations (shown by --help / --print-parameters) and
+// range checks with one-line errors naming the parameter.
+#include "beam_solid/beam_solid_problem.h"
+
+#include "common/parameter_checks.h"
+
+namespace physics::beam_solid
+{
+  using dealii::Patterns::Anything;
+  using dealii::Patterns::Bool;
+  using dealii::Patterns::Double;
+  using dealii::Patterns::Integer;
+  using dealii::Patterns::Selection;
+  using parameters::numbers;
+  using parameters::positive;
+  using parameters::tolerance;
+
+  void BeamSolidParameters::declare(dealii::ParameterHandler& prm)
+  {
+    prm.enter_subsection("Solid");
+    prm.declare_entry("Size", "1, 1, 1", Anything(), "Edge lengths of the box [0, a] x [0, b] x [0, c] in m (> 0).");
+    prm.declare_entry("Cells", "4, 4, 4", Anything(), "Hexahedra per edge (3 integers >= 1).");
+    prm.declare_entry("Young's modulus", "1", Double(), "E_S in N/m^2 (> 0), Saint Venant-Kirchhoff.");
+    prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu_S (-1 < nu < 0.5).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fibres");
+    prm.declare_entry("Fibres in y", "3", Integer(0, 1000), "Fibres per row across the width (y).");
+    prm.declare_entry("Fibres in z", "3", Integer(0, 1000), "Rows of fibres across the height (z).");
+    prm.declare_entry("Elements per fibre", "8", Integer(1, 100000), "Beam elements along each fibre.");
+    prm.declare_entry("Margin", "0.1", Double(),
+                      "Distance of the outer fibres from the side faces, as a fraction of the width/height "
+                      "(0 <= margin < 0.5). Fibres run from x = 0 to x = a.");
+    prm.declare_entry("Tilt", "0", Double(),
+                      "The fibres rise by this fraction of the height over their length (0: parallel to x; "
+                      "fibres must stay inside the solid).");
+    prm.declare_entry("Young's modulus", "10", Double(), "E_B in N/m^2 (> 0), torsion-free Kirchhoff-Love beams.");
+    prm.declare_entry("Radius", "0.005", Double(), "Fibre radius in m (> 0): A = pi r^2, I = pi r^4 / 4.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Coupling");
+    prm.declare_entry("Method", "mortar", Selection("mortar|gpts"),
+                      "mortar: segment-based integration (beam elements split at solid cell faces); gpts: Gauss "
+                      "point to segment (the beam's own Gauss points).");
+    prm.declare_entry("Penalty", "10", Double(), "Penalty parameter eps in N/m (> 0).");
+    prm.declare_entry("Gauss points", "6", Integer(1, 20), "Per beam element (gpts) or per segment (mortar).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    prm.declare_entry("Traction", "1, 0, 0", Anything(),
+                      "Dead nominal traction on the face x = a (3 values, N/m^2); the face x = 0 is clamped.");
+    prm.declare_entry("Load steps", "1", Integer(1, 10000), "Equal load increments.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Newton");
+    prm.declare_entry("Relative tolerance", "1e-6", Double(), "||r|| / ||r_0|| per load step (0 < tol < 1).");
+    prm.declare_entry("Absolute tolerance", "1e-12", Double(), "||r|| below this also counts as converged (>= 0).");
+    prm.declare_entry("Maximum iterations", "20", Integer(1, 1000), "Newton steps per load step.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Linear solver");
+    prm.declare_entry("Preset", "direct(superlu)", Anything(),
+                      "Preconditioner preset of multigrid/presets (solve_block_system --list-presets).");
+    prm.declare_entry("Overrides", "", Anything(), "Semicolon-separated PATH=VALUE changes of the preset.");
+    prm.declare_entry("Tolerance", "1e-8", Double(), "GMRES relative residual (0 < tol < 1).");
+    prm.declare_entry("Maximum iterations", "1000", Integer(1, 100000), "GMRES iterations.");
+    prm.declare_entry("Restart", "200", Integer(1, 10000), "GMRES restart length.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    prm.declare_entry("Directory", "output/beam_solid", Anything(),
+                      "Run log (run_log.jsonl), VTK (solid.pvd, beams.pvd), exported systems.");
+    prm.declare_entry("VTK", "true", Bool(), "Write the solid (pvtu) and the beams (vtu) per load step.");
+    prm.declare_entry("Export systems", "false", Bool(),
+                      "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN.");
+    prm.leave_subsection();
+  }
+
+  void BeamSolidParameters::parse(dealii::ParameterHandler& prm)
+  {
+    prm.enter_subsection("Solid");
+    size = numbers(prm.get("Size"), "Size", 3);
+    for (const double v : size)
+      positive(v, "Size");
+    cells.clear();
+    for (const double v : numbers(prm.get("Cells"), "Cells", 3))
+      {
+        if (!(v >= 1) || v != static_cast<int>(v))
+          throw std::invalid_argument("parameter 'Cells': expected integers >= 1, got " + std::to_string(v));
+        cells.push_back(static_cast<int>(v));
+      }
+    solid_youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Solid)");
+    solid_poisson_ratio  = prm.get_double("Poisson's ratio");
+    if (!(solid_poisson_ratio > -1 && solid_poisson_ratio < 0.5))
+      throw std::invalid_argument("parameter 'Poisson's ratio': expected -1 < nu < 0.5, got " +
+                                  std::to_string(solid_poisson_ratio));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fibres");
+    fibres_y           = prm.get_integer("Fibres in y");
+    fibres_z           = prm.get_integer("Fibres in z");
+    elements_per_fibre = prm.get_integer("Elements per fibre");
+    fibre_margin       = prm.get_double("Margin");
+    if (!(fibre_margin >= 0 && fibre_margin < 0.5))
+      throw std::invalid_argument("parameter 'Margin': expected 0 <= margin < 0.5, got " + std::to_string(fibre_margin));
+    fibre_tilt          = prm.get_double("Tilt");
+    beam_youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Fibres)");
+    fibre_radius        = positive(prm.get_double("Radius"), "Radius");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Coupling");
+    coupling     = prm.get("Method");
+    penalty      = positive(prm.get_double("Penalty"), "Penalty");
+    gauss_points = prm.get_integer("Gauss points");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    traction   = numbers(prm.get("Traction"), "Traction", 3);
+    load_steps = prm.get_integer("Load steps");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Newton");
+    newton_relative_tolerance = tolerance(prm.get_double("Relative tolerance"), "'Relative tolerance' (Newton)");
+    newton_absolute_tolerance = prm.get_double("Absolute tolerance");
+    newton_max_iterations     = prm.get_integer("Maximum iterations");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Linear solver");
+    preset                = prm.get("Preset");
+    overrides             = dealii::Utilities::split_string_list(prm.get("Overrides"), ';');
+    linear_tolerance      = tolerance(prm.get_double("Tolerance"), "'Tolerance' (Linear solver)");
+    linear_max_iterations = prm.get_integer("Maximum iterations");
+    restart               = prm.get_integer("Restart");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    output_directory = prm.get("Directory");
+    vtk              = prm.get_bool("VTK");
+    export_systems   = prm.get_bool("Export systems");
+    prm.leave_subsection();
+  }
+} // namespace physics::beam_solid

@@ -1,0 +1,457 @@
+#include "beam_solid/beam_solid_problem.h"
+
+#include "beam_solid/beam_output.h"
+#include "beam_solid/beam_solid_coupling.h"
+#include "common/run_output.h"
+#include "common/solid_mechanics.h"
+#include "common/tpetra_bridge.h"
+
+#include "block_preconditioner.h"
+#include "block_system_io.h"
+#include "krylov_solver.h"
+#include "presets.h"
+
+#include <Xpetra_MapFactory.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+namespace physics::beam_solid
+{
+  using namespace dealii;
+  using multigrid::GO;
+
+  namespace
+  {
+    /// The fibre bundle of the parameters: fibres_y x fibres_z straight fibres from x = 0 to
+    /// x = a, rising by tilt * c over their length.
+    BeamMesh generate_fibres(const BeamSolidParameters& p)
+    {
+      BeamMesh beam;
+      auto     coordinate = [&](int i, int n, double extent) {
+        return n == 1 ? 0.5 * extent : extent * (p.fibre_margin + (1 - 2 * p.fibre_margin) * i / (n - 1.0));
+      };
+      for (int j = 0; j < p.fibres_y; ++j)
+        for (int k = 0; k < p.fibres_z; ++k)
+          {
+            const double y = coordinate(j, p.fibres_y, p.size[1]), z = coordinate(k, p.fibres_z, p.size[2]);
+            add_straight_fibre(beam, Point<3>(0, y, z), Point<3>(p.size[0], y, z + p.fibre_tilt * p.size[2]),
+                               p.elements_per_fibre);
+          }
+      beam.check_and_set_tangents("Fibres");
+      return beam;
+    }
+
+    class BeamSolidProblem
+    {
+    public:
+      BeamSolidProblem(const BeamSolidParameters& p, MPI_Comm comm);
+      BeamSolidRunSummary run();
+
+    private:
+      void setup();
+      /// Assembles the coupled Newton system (global numbering: beam, then solid) on its owners.
+      multigrid::BlockSystem assemble(double load_factor);
+      /// Beam rows (positions then tangents of the locally owned beam nodes) and their rigid-body
+      /// modes, solid rows and theirs.
+      void set_nullspaces(multigrid::BlockSystem& system) const;
+      void write_output(int step);
+      bool owns_beam_node(std::size_t n) const { return n >= beam_first_ && n < beam_end_; }
+
+      const BeamSolidParameters& p_;
+      MPI_Comm                   comm_;
+      const unsigned int         rank_, n_ranks_;
+      ConditionalOStream         pcout_;
+
+      parallel::shared::Triangulation<3> tria_;
+      FESystem<3>                        fe_;
+      DoFHandler<3>                      dof_handler_;
+      IndexSet                           owned_, relevant_, ghosts_;
+      AffineConstraints<double>          constraints_;
+      DynamicSparsityPattern             pattern_;
+      SolidModel<3>                      model_;
+
+      BeamMesh                           beam_;
+      BeamSection                        section_;
+      std::unique_ptr<BeamSolidCoupling> coupling_;
+      std::size_t                        beam_first_ = 0, beam_end_ = 0; ///< owned beam nodes
+
+      TrilinosWrappers::MPI::Vector u_, u_ghosted_;
+      std::vector<double>           d_beam_; ///< all beam DOFs, on every rank
+      JsonLinesLog                  log_;
+      std::unique_ptr<PvdSeries>    solid_pvd_, beam_pvd_;
+    };
+
+    BeamSolidProblem::BeamSolidProblem(const BeamSolidParameters& p, MPI_Comm comm)
+        : p_(p)
+        , comm_(comm)
+        , rank_(Utilities::MPI::this_mpi_process(comm))
+        , n_ranks_(Utilities::MPI::n_mpi_processes(comm))
+        , pcout_(std::cout, rank_ == 0)
+        , tria_(comm, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis)
+        , fe_(FE_Q<3>(1), 3)
+        , dof_handler_(tria_)
+    {
+    }
+
+    void BeamSolidProblem::setup()
+    {
+      std::filesystem::create_directories(p_.output_directory);
+      // Box with boundary ids 0..5 (x-, x+, y-, y+, z-, z+).
+      GridGenerator::subdivided_hyper_rectangle(tria_, {static_cast<unsigned>(p_.cells[0]),
+                                                        static_cast<unsigned>(p_.cells[1]),
+                                                        static_cast<unsigned>(p_.cells[2])},
+                                                Point<3>(), Point<3>(p_.size[0], p_.size[1], p_.size[2]), true);
+      for (const auto& cell : tria_.active_cell_iterators()) // colorize also sets material ids
+        cell->set_material_id(0);
+      dof_handler_.distribute_dofs(fe_);
+      owned_ = dof_handler_.locally_owned_dofs();
+      DoFTools::extract_locally_relevant_dofs(dof_handler_, relevant_);
+      // The strided maps of the block system need node-major solid DOFs (x, y, z consecutive).
+      for (const auto& cell : dof_handler_.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          if (cell->vertex_dof_index(v, 0) % 3 != 0 || cell->vertex_dof_index(v, 1) != cell->vertex_dof_index(v, 0) + 1 ||
+              cell->vertex_dof_index(v, 2) != cell->vertex_dof_index(v, 0) + 2)
+            throw std::runtime_error("solid DOFs are not numbered node by node");
+
+      constraints_.reinit(relevant_);
+      VectorTools::interpolate_boundary_values(dof_handler_, 0, Functions::ZeroFunction<3>(3), constraints_);
+      constraints_.close();
+      pattern_.reinit(relevant_.size(), relevant_.size(), relevant_);
+      DoFTools::make_sparsity_pattern(dof_handler_, pattern_, constraints_, false);
+      SparsityTools::distribute_sparsity_pattern(pattern_, owned_, comm_, relevant_);
+      const auto lame = LameParameters::from_young_poisson(p_.solid_youngs_modulus, p_.solid_poisson_ratio);
+      model_.materials[0] = make_material<3>("SaintVenantKirchhoff", lame);
+
+      beam_    = generate_fibres(p_);
+      section_ = BeamSection::circular(p_.beam_youngs_modulus, p_.fibre_radius);
+      coupling_ = std::make_unique<BeamSolidCoupling>(
+          beam_, dof_handler_, p_.coupling == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar, p_.gauss_points,
+          "Fibres");
+      // Beam nodes: contiguous blocks per rank.
+      const std::size_t n_nodes = beam_.nodes.size();
+      beam_first_               = n_nodes * rank_ / n_ranks_;
+      beam_end_                 = n_nodes * (rank_ + 1) / n_ranks_;
+      d_beam_.assign(beam_.n_dofs(), 0.0);
+
+      ghosts_ = relevant_;
+      ghosts_.add_indices(coupling_->solid_dofs().begin(), coupling_->solid_dofs().end());
+      u_.reinit(owned_, comm_);
+      u_ghosted_.reinit(owned_, ghosts_, comm_);
+      if (rank_ == 0)
+        log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
+      solid_pvd_ = std::make_unique<PvdSeries>(p_.output_directory + "/solid.pvd");
+      beam_pvd_  = std::make_unique<PvdSeries>(p_.output_directory + "/beams.pvd");
+      pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells, " << dof_handler_.n_dofs()
+             << " solid DOFs, " << p_.fibres_y * p_.fibres_z << " fibres with " << beam_.elements.size()
+             << " elements, " << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
+             << p_.coupling << "), " << n_ranks_ << " ranks, preset " << p_.preset << "\n";
+    }
+
+    multigrid::BlockSystem BeamSolidProblem::assemble(double load_factor)
+    {
+      const GO n_beam = beam_.n_dofs();
+      // Solid: K_S, r_S (deal.II numbering), dead traction on x = a.
+      model_.tractions.clear();
+      model_.tractions[1] = Tensor<1, 3>({load_factor * p_.traction[0], load_factor * p_.traction[1],
+                                          load_factor * p_.traction[2]});
+      TrilinosWrappers::SparseMatrix K;
+      K.reinit(owned_, owned_, pattern_, comm_);
+      TrilinosWrappers::MPI::Vector r(owned_, comm_);
+      u_ghosted_ = u_;
+      assemble_solid(dof_handler_, model_, u_ghosted_, constraints_, r, &K);
+
+      // Beam elements: computed by the owner of their first node, rows sent to the node owners.
+      RowPieces                     beam_rows;
+      std::map<GlobalIndex, double> beam_residual;
+      for (std::size_t e = 0; e < beam_.elements.size(); ++e)
+        {
+          if (!owns_beam_node(beam_.elements[e][0]))
+            continue;
+          std::array<double, 12> d;
+          for (int i = 0; i < 12; ++i)
+            d[i] = d_beam_[6 * beam_.elements[e][i / 6] + i % 6];
+          const auto ed = element_derivatives(beam_, e, section_, d);
+          for (int i = 0; i < 12; ++i)
+            {
+              const GlobalIndex row = 6 * beam_.elements[e][i / 6] + i % 6;
+              beam_residual[row] += ed.gradient[i];
+              for (int j = 0; j < 12; ++j)
+                beam_rows[row][6 * beam_.elements[e][j / 6] + j % 6] += ed.hessian[12 * i + j];
+            }
+        }
+      const std::size_t n_nodes = beam_.nodes.size();
+      auto              owner   = [&](GlobalIndex row) -> unsigned int {
+        const std::size_t node = row / 6;
+        return static_cast<unsigned int>(((node + 1) * n_ranks_ - 1) / n_nodes);
+      };
+      beam_rows     = send_rows_to_owners(beam_rows, owner, comm_);
+      beam_residual = send_entries_to_owners(beam_residual, owner, comm_);
+
+      // Coupling (computed redundantly; each rank keeps its rows). Constrained solid DOFs keep
+      // their identity rows, and their columns are dropped (their increments are zero).
+      auto constrained = [&](GlobalIndex g) { return g >= static_cast<GlobalIndex>(n_beam) && constraints_.is_constrained(g - n_beam); };
+      auto keep        = [&](GlobalIndex g) {
+        return g < static_cast<GlobalIndex>(n_beam) ? owns_beam_node(g / 6) : owned_.is_element(g - n_beam) && !constrained(g);
+      };
+      RowPieces                     coupling_rows;
+      std::map<GlobalIndex, double> coupling_residual;
+      coupling_->add_penalty(p_.penalty, d_beam_, u_ghosted_, keep, coupling_residual, coupling_rows);
+
+      // Rows of the merged system: owned beam DOFs, then owned solid DOFs.
+      std::vector<GO>                   beam_gids, solid_gids;
+      std::vector<std::map<GO, double>> rows;
+      std::vector<double>               rhs;
+      for (std::size_t n = beam_first_; n < beam_end_; ++n)
+        for (int k = 0; k < 6; ++k)
+          beam_gids.push_back(6 * static_cast<GO>(n) + k);
+      for (const auto i : owned_)
+        solid_gids.push_back(n_beam + static_cast<GO>(i));
+      auto add = [&](GO g, std::map<GO, double> entries, double residual) {
+        for (const auto& piece : {&beam_rows, &coupling_rows})
+          if (const auto it = piece->find(g); it != piece->end())
+            for (const auto& [c, v] : it->second)
+              if (!constrained(c))
+                entries[c] += v;
+        for (const auto& piece : {&beam_residual, &coupling_residual})
+          if (const auto it = piece->find(g); it != piece->end())
+            residual += it->second;
+        rows.push_back(std::move(entries));
+        rhs.push_back(-residual);
+      };
+      for (const GO g : beam_gids)
+        add(g, {}, 0.0);
+      for (const GO g : solid_gids)
+        {
+          std::map<GO, double> entries;
+          add_row(K, g - n_beam, [&](GlobalIndex c) { return static_cast<GO>(c) + n_beam; }, entries);
+          add(g, std::move(entries), r[g - n_beam]);
+        }
+      std::vector<GO> all(beam_gids);
+      all.insert(all.end(), solid_gids.begin(), solid_gids.end());
+      auto A = matrix_from_rows(comm_, n_beam + static_cast<GO>(dof_handler_.n_dofs()), all, rows);
+      auto b = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(A->getRowMap(), 1, true);
+      {
+        auto data = b->getDataNonConst(0);
+        for (std::size_t i = 0; i < rhs.size(); ++i)
+          data[i] = rhs[i];
+      }
+      std::vector<multigrid::BlockInfo> blocks(2);
+      blocks[0].name          = "beam";
+      blocks[0].dofs_per_node = 6;
+      blocks[0].global_size   = n_beam;
+      blocks[1].name          = "solid";
+      blocks[1].dofs_per_node = 3;
+      blocks[1].global_size   = dof_handler_.n_dofs();
+      auto system = multigrid::BlockSystem::from_merged(teuchos_comm(comm_), blocks, {beam_gids, solid_gids}, A, b);
+      set_nullspaces(system);
+      return system;
+    }
+
+    void BeamSolidProblem::set_nullspaces(multigrid::BlockSystem& system) const
+    {
+      // Beam: translations move positions; an infinitesimal rotation w moves positions by w x X
+      // and tangents by w x T (reference configuration).
+      auto beam_modes = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(system.block(0).map, 6, true);
+      for (int m = 0; m < 6; ++m)
+        {
+          auto data = beam_modes->getDataNonConst(m);
+          for (std::size_t n = beam_first_, i = 0; n < beam_end_; ++n, i += 6)
+            {
+              Tensor<1, 3> w, shift_x, shift_t;
+              if (m < 3)
+                shift_x[m] = 1.0;
+              else
+                {
+                  w[m - 3] = 1.0;
+                  shift_x  = cross_product_3d(w, Tensor<1, 3>(beam_.nodes[n]));
+                  shift_t  = cross_product_3d(w, beam_.tangents[n]);
+                }
+              for (int c = 0; c < 3; ++c)
+                {
+                  data[i + c]     = shift_x[c];
+                  data[i + 3 + c] = shift_t[c];
+                }
+            }
+        }
+      system.block(0).nullspace = beam_modes;
+      // Solid: rigid-body modes from the vertex coordinates, in the order of the owned DOFs.
+      std::map<GlobalIndex, Point<3>> vertex_of_dof;
+      for (const auto& cell : dof_handler_.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          if (owned_.is_element(cell->vertex_dof_index(v, 0)))
+            vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
+      std::vector<double> xyz;
+      for (const auto& [dof, x] : vertex_of_dof)
+        for (int c = 0; c < 3; ++c)
+          xyz.push_back(x[c]);
+      system.block(1).nullspace = multigrid::rigid_body_modes(system.block(1).map, 3, xyz);
+    }
+
+    BeamSolidRunSummary BeamSolidProblem::run()
+    {
+      setup();
+      BeamSolidRunSummary summary;
+      summary.beam_dofs       = beam_.n_dofs();
+      summary.solid_dofs      = dof_handler_.n_dofs();
+      summary.coupling_points = coupling_->n_points();
+      multigrid::Preset preset = multigrid::load_preset(p_.preset);
+      multigrid::apply_overrides(preset, p_.overrides);
+      multigrid::SolveOptions options;
+      options.tolerance      = p_.linear_tolerance;
+      options.max_iterations = p_.linear_max_iterations;
+      options.restart        = p_.restart;
+      const GO n_beam        = beam_.n_dofs();
+
+      pcout_ << "  step newton   |residual|    |r_beam|    |r_solid|   GMRES  setup[s] solve[s]\n";
+      for (int step = 1; step <= p_.load_steps; ++step)
+        {
+          const double load_factor = static_cast<double>(step) / p_.load_steps;
+          double       r0          = 0;
+          bool         converged   = false;
+          summary.residuals.emplace_back();
+          for (int it = 0; it <= p_.newton_max_iterations; ++it)
+            {
+              auto         system = assemble(load_factor);
+              const auto   norms  = system.block_norms(*system.rhs());
+              const double norm   = std::hypot(norms[0], norms[1]);
+              if (it == 0)
+                r0 = norm;
+              summary.residuals.back().push_back(norm);
+              converged = it > 0 && (norm <= p_.newton_relative_tolerance * r0 || norm <= p_.newton_absolute_tolerance);
+              JsonLinesLog::Line line;
+              line.add("load_step", step).add("newton", it).add("residual", norm).add("relative_residual", norm / r0)
+                  .add("residual_beam", norms[0]).add("residual_solid", norms[1]).add("converged", converged);
+              pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
+                     << std::setw(13) << norm << std::setw(12) << norms[0] << std::setw(12) << norms[1]
+                     << std::defaultfloat;
+              if (converged || it == p_.newton_max_iterations)
+                {
+                  pcout_ << "\n";
+                  log_.write(line);
+                  break;
+                }
+              if (p_.export_systems)
+                multigrid::write_block_system(system, p_.output_directory + "/systems/step" + std::to_string(step) +
+                                                          "-newton" + std::to_string(it));
+              multigrid::BlockPreconditioner preconditioner(system, preset);
+              auto x = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(system.full_map(), 1, true);
+              const auto report = multigrid::solve(system, preconditioner, *x, options);
+              summary.linear_iterations.push_back(report.iterations);
+              summary.setup_seconds += report.preconditioner.setup_seconds;
+              summary.solve_seconds += report.solve_seconds;
+              line.add("linear_iterations", report.iterations).add("linear_converged", report.converged)
+                  .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
+                  .add("global_size", static_cast<long long>(report.global_size));
+              log_.write(line);
+              pcout_ << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
+                     << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
+                     << (report.converged ? "" : "  (GMRES not converged)") << "\n";
+
+              // Updates: solid into u, beam into the replicated beam vector.
+              const auto          data = x->getData(0);
+              const auto          map  = x->getMap();
+              std::vector<double> d_beam(n_beam, 0.0);
+              TrilinosWrappers::MPI::Vector du(owned_, comm_);
+              for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
+                {
+                  const GO g = map->getGlobalElement(i);
+                  if (g < n_beam)
+                    d_beam[g] = data[i];
+                  else
+                    du[g - n_beam] = data[i];
+                }
+              du.compress(VectorOperation::insert);
+              u_ += du;
+              MPI_Allreduce(MPI_IN_PLACE, d_beam.data(), static_cast<int>(d_beam.size()), MPI_DOUBLE, MPI_SUM, comm_);
+              for (GO k = 0; k < n_beam; ++k)
+                d_beam_[k] += d_beam[k];
+            }
+          summary.newton_iterations.push_back(static_cast<int>(summary.residuals.back().size()) - 1);
+          if (p_.vtk)
+            write_output(step);
+          if (!converged)
+            {
+              summary.converged = false;
+              pcout_ << "Newton did not converge in load step " << step << "\n";
+              break;
+            }
+        }
+
+      // Final state.
+      u_ghosted_ = u_;
+      double gap = 0;
+      for (const auto& g : coupling_->gaps(d_beam_, u_ghosted_))
+        gap = std::max(gap, std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]));
+      summary.max_gap = gap;
+      double sum = 0, count = 0;
+      for (const auto& cell : dof_handler_.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          if (std::abs(cell->vertex(v)[0] - p_.size[0]) < 1e-12 && owned_.is_element(cell->vertex_dof_index(v, 0)))
+            {
+              sum += u_[cell->vertex_dof_index(v, 0)];
+              count += 1;
+            }
+      // (vertices are counted once per adjacent cell; the mean is unaffected on a uniform grid)
+      summary.mean_end_displacement = Utilities::MPI::sum(sum, comm_) / Utilities::MPI::sum(count, comm_);
+      summary.beam_displacement     = d_beam_;
+      return summary;
+    }
+
+    void BeamSolidProblem::write_output(int step)
+    {
+      u_ghosted_ = u_;
+      std::vector<Vector<float>> sigma;
+      Vector<float>              von_mises, partition(tria_.n_active_cells());
+      cell_cauchy_stress(dof_handler_, model_, u_ghosted_, sigma, von_mises);
+      for (const auto& cell : tria_.active_cell_iterators())
+        partition(cell->active_cell_index()) = cell->subdomain_id();
+      DataOut<3> out;
+      out.attach_dof_handler(dof_handler_);
+      out.add_data_vector(u_ghosted_, std::vector<std::string>(3, "displacement"), DataOut<3>::type_dof_data,
+                          std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+                              3, DataComponentInterpretation::component_is_part_of_vector));
+      out.add_data_vector(von_mises, "von_mises", DataOut<3>::type_cell_data);
+      out.add_data_vector(partition, "partition", DataOut<3>::type_cell_data);
+      out.set_cell_selection([](const typename Triangulation<3>::cell_iterator& cell) {
+        return cell->is_active() && cell->is_locally_owned();
+      });
+      out.build_patches();
+      const std::string pvtu = out.write_vtu_with_pvtu_record(p_.output_directory + "/", "solid", step, comm_, 4);
+      // Beams (rank 0 has every beam DOF): line cells with displacement and the coupling force
+      // per unit length, lambda_j = eps / kappa_j g_j.
+      const auto gaps = coupling_->gaps(d_beam_, u_ghosted_);
+      if (rank_ == 0)
+        {
+          std::vector<std::array<double, 3>> line_load(gaps.size());
+          for (std::size_t j = 0; j < gaps.size(); ++j)
+            for (int c = 0; c < 3; ++c)
+              line_load[j][c] = coupling_->kappa()[j] > 0 ? p_.penalty / coupling_->kappa()[j] * gaps[j][c] : 0.0;
+          const std::string name = "beams_" + Utilities::int_to_string(step, 4) + ".vtu";
+          write_beam_vtu(beam_, d_beam_, line_load, p_.output_directory + "/" + name);
+          solid_pvd_->add(step, pvtu);
+          beam_pvd_->add(step, name);
+        }
+    }
+  } // namespace
+
+  BeamSolidRunSummary run_beam_solid(const BeamSolidParameters& parameters, MPI_Comm comm)
+  {
+    return BeamSolidProblem(parameters, comm).run();
+  }
+} // namespace physics::beam_solid

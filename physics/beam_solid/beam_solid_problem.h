@@ -1,0 +1,69 @@
+// Beam/solid meshtying with penalty coupling (seed 001, BENCHMARKS.md section 2), quasi-static:
+// a Saint Venant-Kirchhoff block (common layer) with embedded straight fibres (torsion-free
+// Kirchhoff-Love beams) tied along their centrelines (beam_solid_coupling.h), Newton's method,
+// each linear system the seeds' 2 x 2 block system
+//   [ K_B + eps D^T k^-1 D    -eps D^T k^-1 M      ] [dd_B]     [r_B]
+//   [ -eps M^T k^-1 D         K_S + eps M^T k^-1 M ] [dd_S] = - [r_S]
+// solved by GMRES with a preset of multigrid/.
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace physics::beam_solid
+{
+  struct BeamSolidParameters
+  {
+    // Solid: the box [0, size] with `cells` elements per edge (x: cells * aspect)
+    std::vector<double> size{1.0, 1.0, 1.0};
+    std::vector<int>    cells{4, 4, 4};
+    double              solid_youngs_modulus = 1.0, solid_poisson_ratio = 0.3;
+    // Fibres: a grid of ny x nz straight fibres along x through the box
+    int    fibres_y = 3, fibres_z = 3, elements_per_fibre = 8;
+    double fibre_margin = 0.1;  ///< distance of the outer fibres from the box faces (fraction)
+    double fibre_tilt   = 0.0;  ///< fibres rise by this (fraction of the height) over their length
+    double beam_youngs_modulus = 10.0, fibre_radius = 0.005;
+    // Coupling
+    std::string coupling = "mortar"; ///< mortar | gpts
+    double      penalty  = 10.0;
+    int         gauss_points = 6;
+    // Loading: clamped face x = 0, dead traction on x = size_x
+    std::vector<double> traction{1.0, 0.0, 0.0};
+    int                 load_steps = 1;
+    // Newton
+    double newton_relative_tolerance = 1e-6, newton_absolute_tolerance = 1e-12;
+    int    newton_max_iterations = 20;
+    // Linear solver
+    std::string              preset = "direct(superlu)";
+    std::vector<std::string> overrides;
+    double                   linear_tolerance = 1e-8;
+    int                      linear_max_iterations = 1000, restart = 200;
+    // Output
+    std::string output_directory = "output/beam_solid";
+    bool        vtk = true, export_systems = false;
+
+    static void declare(dealii::ParameterHandler& prm);
+    /// Reads and checks every value; throws std::invalid_argument "parameter 'X': ...".
+    void parse(dealii::ParameterHandler& prm);
+  };
+
+  struct BeamSolidRunSummary
+  {
+    bool                             converged = true;
+    std::vector<int>                 newton_iterations;  ///< per load step
+    std::vector<int>                 linear_iterations;  ///< per Newton step
+    std::vector<std::vector<double>> residuals;          ///< per load step
+    double setup_seconds = 0, solve_seconds = 0;
+    long long beam_dofs = 0, solid_dofs = 0;
+    std::size_t coupling_points = 0;
+    /// Final state: the loaded face's mean x displacement and the largest beam/solid gap.
+    double mean_end_displacement = 0, max_gap = 0;
+    std::vector<double> beam_displacement; ///< all beam DOFs (6 per node)
+  };
+
+  BeamSolidRunSummary run_beam_solid(const BeamSolidParameters& parameters, MPI_Comm comm);
+} // namespace physics::beam_solid

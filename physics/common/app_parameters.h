@@ -1,0 +1,17 @@
+// The command line every app of the project shares:
+//   APP [PARAMETER_FILE.prm] [--set "Section/Entry=value"]... | --help | --print-parameters
+// The parameter file is read into a ParameterHandler whose entries the app has declared.
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+
+namespace physics
+{
+  /// Reads argv into `prm`. Returns false when the app should stop with exit status 0 (--help
+  /// printed `usage`, or --print-parameters printed every parameter; on rank 0 only, `root`).
+  /// Throws std::invalid_argument with a one-line message for an unknown argument, a missing or
+  /// unparsable parameter file, or a --set that names no parameter or violates its pattern.
+  bool read_command_line(int argc, char** argv, const std::string& usage, dealii::ParameterHandler& prm, bool root);
+} // namespace physics
