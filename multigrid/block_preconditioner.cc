@@ -108,9 +108,7 @@ namespace multigrid
       if (system.n_blocks() != 2)
         throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
                          std::to_string(system.n_blocks()) + " blocks");
-      const auto& interface = system.interface();
-      auto        comm      = system.comm();
-
+      auto comm = system.comm();
       Teuchos::ParameterList                          list = muelu;
       MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, comm,
                                                                   Teuchos::rcp(new ProjectFactoryFactory()));
@@ -120,14 +118,20 @@ namespace multigrid
       L0->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
       L0->Set("Nullspace1", system.nullspace_or_translations(0));
       L0->Set("Nullspace2", system.nullspace_or_translations(1));
-      L0->Set("DualNodeID2PrimalNodeID", Teuchos::rcp(new std::map<LO, LO>(interface.dual_to_primal_node)));
-      // For user XML with MueLu's dof-based InterfaceAggregationFactory (the presets use the
-      // node-based mapping above).
-      L0->Set("Primal interface DOF map", interface.primal_interface_dofs);
-      RCP<const Map> segregation = interface.segregation_dofs;
-      if (segregation.is_null()) // nothing to cut: an empty set keeps every entry
-        segregation = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, 0, 0, 0, comm);
-      L0->Set("segregation dofs", segregation);
+      // Contact/meshtying systems: the interface data of the saddle-point template (block systems
+      // without an interface, e.g. beam/solid, use templates that do not ask for it).
+      if (system.has_interface())
+        {
+          const auto& interface = system.interface();
+          L0->Set("DualNodeID2PrimalNodeID", Teuchos::rcp(new std::map<LO, LO>(interface.dual_to_primal_node)));
+          // For user XML with MueLu's dof-based InterfaceAggregationFactory (the presets use the
+          // node-based mapping above).
+          L0->Set("Primal interface DOF map", interface.primal_interface_dofs);
+          RCP<const Map> segregation = interface.segregation_dofs;
+          if (segregation.is_null()) // nothing to cut: an empty set keeps every entry
+            segregation = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, 0, 0, 0, comm);
+          L0->Set("segregation dofs", segregation);
+        }
       interpreter.SetupHierarchy(*H);
       return H;
     }

@@ -1,5 +1,6 @@
 #include "project_factories.h"
 
+#include "spai_factories.h"
 #include "superlu_direct.h"
 
 #include <MueLu_Aggregates.hpp>
@@ -293,6 +294,12 @@ namespace multigrid
     if (name == "SuperLUDirectSolver")
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
+    if (auto spai = build_spai_factory(name, list); !spai.is_null())
+      {
+        // MueLu's own factories get their inputs ("A" -> a named factory) from the XML; these
+        // two read the level's default "A" of their factory manager.
+        return spai;
+      }
     return Base::BuildFactory(param, factories, managers);
   }
 } // namespace multigrid

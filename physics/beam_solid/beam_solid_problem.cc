@@ -2,6 +2,7 @@
 
 #include "beam_solid/beam_output.h"
 #include "beam_solid/beam_solid_coupling.h"
+#include "common/mesh_input.h"
 #include "common/run_output.h"
 #include "common/solid_mechanics.h"
 #include "common/tpetra_bridge.h"
@@ -138,7 +139,9 @@ namespace physics::beam_solid
       const auto lame = LameParameters::from_young_poisson(p_.solid_youngs_modulus, p_.solid_poisson_ratio);
       model_.materials[0] = make_material<3>("SaintVenantKirchhoff", lame);
 
-      beam_    = generate_fibres(p_);
+      beam_ = p_.beam_file.empty()
+                  ? generate_fibres(p_)
+                  : read_beam_mesh(gmsh_mesh(p_.beam_file, 1, 1, p_.output_directory, comm_));
       section_ = BeamSection::circular(p_.beam_youngs_modulus, p_.fibre_radius);
       coupling_ = std::make_unique<BeamSolidCoupling>(
           beam_, dof_handler_, p_.coupling == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar, p_.gauss_points,
@@ -158,7 +161,7 @@ namespace physics::beam_solid
       solid_pvd_ = std::make_unique<PvdSeries>(p_.output_directory + "/solid.pvd");
       beam_pvd_  = std::make_unique<PvdSeries>(p_.output_directory + "/beams.pvd");
       pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells, " << dof_handler_.n_dofs()
-             << " solid DOFs, " << p_.fibres_y * p_.fibres_z << " fibres with " << beam_.elements.size()
+             << " solid DOFs, beams with " << beam_.elements.size()
              << " elements, " << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
              << p_.coupling << "), " << n_ranks_ << " ranks, preset " << p_.preset << "\n";
     }
@@ -362,6 +365,14 @@ namespace physics::beam_solid
               pcout_ << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
                      << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
                      << (report.converged ? "" : "  (GMRES not converged)") << "\n";
+              // A preconditioner that does not reduce the residual at all gives no usable Newton
+              // direction: stop here instead of applying it.
+              if (!(report.relative_residual < 1.0))
+                {
+                  pcout_ << "GMRES made no progress (relative residual " << report.relative_residual
+                         << "); stopping Newton\n";
+                  break;
+                }
 
               // Updates: solid into u, beam into the replicated beam vector.
               const auto          data = x->getData(0);

@@ -5,6 +5,9 @@
 #include <Sacado.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 
 namespace physics::beam_solid
@@ -41,6 +44,80 @@ namespace physics::beam_solid
             ++count[n];
           }
       }
+  }
+
+  BeamMesh read_beam_mesh(const std::string& file)
+  {
+    std::ifstream in(file);
+    if (!in)
+      throw std::invalid_argument(file + ": cannot open the beam mesh");
+    BeamMesh                mesh;
+    std::map<long, int>     index_of_node;
+    std::string             line;
+    auto fail = [&](const std::string& what) { throw std::invalid_argument(file + ": " + what); };
+    while (std::getline(in, line))
+      {
+        if (line.rfind("$MeshFormat", 0) == 0)
+          {
+            double version = 0;
+            in >> version;
+            if (version < 2 || version >= 3)
+              fail("expected the msh 2.2 ASCII format (gmsh -format msh22), got version " + std::to_string(version));
+          }
+        else if (line.rfind("$Nodes", 0) == 0)
+          {
+            long n = 0;
+            in >> n;
+            for (long i = 0; i < n; ++i)
+              {
+                long     id;
+                Point<3> x;
+                if (!(in >> id >> x[0] >> x[1] >> x[2]))
+                  fail("unreadable node " + std::to_string(i));
+                index_of_node[id] = static_cast<int>(mesh.nodes.size());
+                mesh.nodes.push_back(x);
+              }
+          }
+        else if (line.rfind("$Elements", 0) == 0)
+          {
+            long n = 0;
+            in >> n;
+            std::getline(in, line);
+            for (long i = 0; i < n && std::getline(in, line); ++i)
+              {
+                std::istringstream fields(line);
+                long               id, type, n_tags, tag;
+                if (!(fields >> id >> type >> n_tags))
+                  fail("unreadable element line '" + line + "'");
+                for (long t = 0; t < n_tags; ++t)
+                  fields >> tag;
+                if (type != 1)
+                  continue;
+                long a, b;
+                if (!(fields >> a >> b) || !index_of_node.count(a) || !index_of_node.count(b))
+                  fail("line element " + std::to_string(id) + " refers to unknown nodes");
+                mesh.elements.push_back({index_of_node[a], index_of_node[b]});
+              }
+          }
+      }
+    if (mesh.elements.empty())
+      fail("no 2-node line elements (beams)");
+    // Keep only the nodes the beams use (gmsh also writes the geometry's other points).
+    std::vector<int> renumber(mesh.nodes.size(), -1);
+    BeamMesh         used;
+    for (auto& element : mesh.elements)
+      for (int& n : element)
+        {
+          if (renumber[n] < 0)
+            {
+              renumber[n] = static_cast<int>(used.nodes.size());
+              used.nodes.push_back(mesh.nodes[n]);
+            }
+          n = renumber[n];
+        }
+    used.elements = mesh.elements;
+    used.check_and_set_tangents(file);
+    return used;
   }
 
   void add_straight_fibre(BeamMesh& mesh, const Point<3>& a, const Point<3>& b, int n_elements)

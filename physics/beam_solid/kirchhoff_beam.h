@@ -43,6 +43,12 @@ namespace physics::beam_solid
     void check_and_set_tangents(const std::string& source);
   };
 
+  /// Beams from a gmsh mesh in the ASCII msh 2.2 format: every 2-node line element (type 1)
+  /// becomes a beam element; other elements are ignored. Throws std::invalid_argument naming
+  /// `file` for an unreadable file, a file without line elements, and what
+  /// check_and_set_tangents() rejects.
+  BeamMesh read_beam_mesh(const std::string& file);
+
   /// Straight fibre from a to b with n elements.
   void add_straight_fibre(BeamMesh& mesh, const dealii::Point<3>& a, const dealii::Point<3>& b, int n_elements);
 

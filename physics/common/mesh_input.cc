@@ -21,34 +21,42 @@ namespace physics
     }
   } // namespace
 
+  std::string gmsh_mesh(const std::string& file, int dimension, int refinement, const std::string& work_directory,
+                        MPI_Comm comm)
+  {
+    namespace fs = std::filesystem;
+    if (!fs::is_regular_file(file))
+      throw std::invalid_argument(file + ": mesh file not found");
+    if (fs::path(file).extension() != ".geo")
+      return file;
+    // Rank 0 meshes; everybody learns whether it worked.
+    const std::string msh =
+        work_directory + "/" + fs::path(file).stem().string() + "-refine" + std::to_string(refinement) + ".msh";
+    const std::string log = msh + ".log";
+    int               ok  = 1;
+    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        const std::string tmp = msh + ".partial";
+        const std::string cmd = "gmsh -" + std::to_string(dimension) + " -setnumber refine " +
+                                std::to_string(refinement) + " -format msh22 " + quoted(file) + " -o " + quoted(tmp) +
+                                " > " + quoted(log) + " 2>&1";
+        ok = std::system(cmd.c_str()) == 0 && fs::is_regular_file(tmp);
+        if (ok)
+          fs::rename(tmp, msh);
+      }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+    if (!ok)
+      throw std::invalid_argument(file + ": gmsh could not mesh it (log: " + log + ")");
+    return msh;
+  }
+
   template <int dim>
   void read_mesh(const std::string& file, int refinement, const std::string& work_directory,
                  dealii::Triangulation<dim>& tria, MPI_Comm comm)
   {
-    namespace fs = std::filesystem;
-    if (!fs::is_regular_file(file))
+    if (!std::filesystem::is_regular_file(file))
       throw std::invalid_argument(file + ": mesh file not found (parameter 'Mesh file')");
-    std::string msh = file;
-    if (fs::path(file).extension() == ".geo")
-      {
-        // Rank 0 meshes; everybody learns whether it worked.
-        msh = work_directory + "/" + fs::path(file).stem().string() + "-refine" + std::to_string(refinement) + ".msh";
-        const std::string log = msh + ".log";
-        int               ok  = 1;
-        if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-          {
-            const std::string tmp = msh + ".partial";
-            const std::string cmd = "gmsh -" + std::to_string(dim) + " -setnumber refine " + std::to_string(refinement) +
-                                    " -format msh22 " + quoted(file) + " -o " + quoted(tmp) + " > " + quoted(log) +
-                                    " 2>&1";
-            ok = std::system(cmd.c_str()) == 0 && fs::is_regular_file(tmp);
-            if (ok)
-              fs::rename(tmp, msh);
-          }
-        MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
-        if (!ok)
-          throw std::invalid_argument(file + ": gmsh could not mesh it (log: " + log + ")");
-      }
+    const std::string msh = gmsh_mesh(file, dim, refinement, work_directory, comm);
     std::ifstream in(msh);
     if (!in)
       throw std::invalid_argument(msh + ": cannot open the mesh");

@@ -11,6 +11,12 @@
 
 namespace physics
 {
+  /// The .msh file to read for `file`: `file` itself, or for a .geo source the mesh gmsh makes of
+  /// it on rank 0 (`-<dimension> -setnumber refine N -format msh22`, kept in `work_directory`).
+  /// Throws std::invalid_argument naming the file if it is missing or gmsh fails.
+  std::string gmsh_mesh(const std::string& file, int dimension, int refinement, const std::string& work_directory,
+                        MPI_Comm comm);
+
   /// Fills `tria` (empty) from `file`. Throws std::invalid_argument with a one-line message
   /// naming the file for a missing file, a gmsh failure or a mesh deal.II cannot read
   /// (quadrilaterals/hexahedra expected; gmsh log kept in `work_directory`).
