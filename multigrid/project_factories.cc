@@ -294,12 +294,8 @@ namespace multigrid
     if (name == "SuperLUDirectSolver")
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
-    if (auto spai = build_spai_factory(name, list); !spai.is_null())
-      {
-        // MueLu's own factories get their inputs ("A" -> a named factory) from the XML; these
-        // two read the level's default "A" of their factory manager.
-        return spai;
-      }
+    if (auto spai = build_spai_factory(name, list, factories); !spai.is_null())
+      return spai;
     return Base::BuildFactory(param, factories, managers);
   }
 } // namespace multigrid

@@ -73,7 +73,10 @@ namespace multigrid
         // the block's striding, for the corrector's smoother and a later AMG on S
         S->SetFixedBlockSize(A11->GetFixedBlockSize());
         Set(level, "A", S);
+        Set(level, "Ainv", inverse); // the SPAI smoother of the same level can reuse it
       }
+
+      const InverseApproximationOptions& options() const { return options_; }
 
     private:
       InverseApproximationOptions options_;
@@ -94,16 +97,34 @@ namespace multigrid
       {
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
         list->set<RCP<const MueLu::FactoryBase>>("A", Teuchos::null, "Generating factory of the matrix");
+        list->set<RCP<const MueLu::FactoryBase>>("Ainv", Teuchos::null,
+                                                 "Factory that already computed the inverse approximation of A "
+                                                 "(e.g. the SPAI Schur complement factory); none: computed here");
         return list;
       }
-      void DeclareInput(MueLu::Level& level) const override { this->Input(level, "A"); }
+      void DeclareInput(MueLu::Level& level) const override
+      {
+        this->Input(level, "A");
+        if (reuse_)
+          this->Input(level, "Ainv");
+      }
 
       void Setup(MueLu::Level& level) override
       {
         MueLu::FactoryMonitor monitor(*this, "SPAI smoother", level);
         A_       = this->template Get<RCP<::multigrid::Matrix>>(level, "A");
-        inverse_ = approximate_inverse(*A_, options_);
+        inverse_ = reuse_ ? this->template Get<RCP<::multigrid::Matrix>>(level, "Ainv")
+                          : approximate_inverse(*A_, options_);
         this->IsSetup(true);
+      }
+
+      const InverseApproximationOptions& options() const { return options_; }
+
+      /// Take Â from `factory` ("Ainv") instead of computing it.
+      void reuse_inverse_of(const RCP<const MueLu::FactoryBase>& factory)
+      {
+        reuse_ = true;
+        this->SetFactory("Ainv", factory);
       }
 
       void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, bool initial_guess_is_zero) const override
@@ -133,19 +154,34 @@ namespace multigrid
       InverseApproximationOptions options_;
       int                         sweeps_;
       double                      damping_;
+      bool                        reuse_ = false;
       RCP<::multigrid::Matrix>    A_, inverse_;
     };
   } // namespace
 
-  RCP<const MueLu::FactoryBase> build_spai_factory(const std::string& name, const Teuchos::ParameterList& list)
+  RCP<const MueLu::FactoryBase> build_spai_factory(const std::string& name, const Teuchos::ParameterList& list,
+                                                   const std::map<std::string, RCP<const MueLu::FactoryBase>>& factories)
   {
     if (name == "SpaiSchurComplementFactory")
       return Teuchos::rcp(new SpaiSchurComplementFactory(list));
     if (name == "SpaiSmoother")
       {
-        const auto& params = list.isSublist("ParameterList") ? list.sublist("ParameterList") : list;
-        return Teuchos::rcp(new MueLu::SmootherFactory<SC, LO, GO, NO>(Teuchos::rcp(new SpaiSmoother(params)),
-                                                                      Teuchos::null));
+        auto smoother = Teuchos::rcp(new SpaiSmoother(list));
+        if (list.isParameter("Ainv"))
+          {
+            const auto source = list.get<std::string>("Ainv");
+            const auto it     = factories.find(source);
+            if (it == factories.end())
+              throw InputError("SpaiSmoother: 'Ainv' names factory '" + source + "', which is not defined before it");
+            // Reuse only the same approximation (a baseline may use diag(A)^-1 in the Schur
+            // complement but keep the SPAI smoother).
+            const auto schur = Teuchos::rcp_dynamic_cast<const SpaiSchurComplementFactory>(it->second);
+            const auto& a = smoother->options();
+            if (!schur.is_null() && schur->options().type == a.type && schur->options().pattern_power == a.pattern_power &&
+                schur->options().drop_tolerance == a.drop_tolerance)
+              smoother->reuse_inverse_of(it->second);
+          }
+        return Teuchos::rcp(new MueLu::SmootherFactory<SC, LO, GO, NO>(smoother, Teuchos::null));
       }
     return Teuchos::null;
   }
