@@ -18,6 +18,7 @@ namespace multigrid
   namespace
   {
     using MueLu::Level;
+    using FactoryPointer = RCP<const MueLu::FactoryBase>;
 
     template <typename T>
     T value_or(const Teuchos::ParameterList& list, const std::string& name, T fallback)
@@ -25,21 +26,41 @@ namespace multigrid
       return list.isParameter(name) ? list.get<T>(name) : fallback;
     }
 
-    InverseApproximationOptions options_from(const Teuchos::ParameterList& list)
+    /// "Ainv" = Â ≈ A^-1 of the level's "A" (usually the A00 block): diagonal, lumping or spai.
+    class InverseApproximationFactory : public MueLu::SingleLevelFactoryBase
     {
-      InverseApproximationOptions o;
-      o.type           = value_or<std::string>(list, "inverse: approximation type", "spai");
-      o.pattern_power  = value_or<int>(list, "spai: pattern power", 1);
-      o.drop_tolerance = value_or<double>(list, "spai: drop tolerance", 0.0);
-      return o;
-    }
+    public:
+      explicit InverseApproximationFactory(const Teuchos::ParameterList& list)
+      {
+        options_.type           = value_or<std::string>(list, "inverse: approximation type", "spai");
+        options_.pattern_power  = value_or<int>(list, "spai: pattern power", 1);
+        options_.drop_tolerance = value_or<double>(list, "spai: drop tolerance", 0.0);
+      }
 
+      RCP<const Teuchos::ParameterList> GetValidParameterList() const override
+      {
+        auto list = Teuchos::rcp(new Teuchos::ParameterList());
+        list->set<FactoryPointer>("A", Teuchos::null, "Generating factory of the matrix to approximate the inverse of");
+        return list;
+      }
+      void DeclareInput(Level& level) const override { Input(level, "A"); }
+
+      void Build(Level& level) const override
+      {
+        MueLu::FactoryMonitor monitor(*this, "Inverse approximation (" + options_.type + ")", level);
+        Set(level, "Ainv", approximate_inverse(*Get<RCP<Matrix>>(level, "A"), options_));
+      }
+
+    private:
+      InverseApproximationOptions options_;
+    };
+
+    /// S = A11 - (1/omega) A10 Â A01 with Â = "Ainv" of an InverseApproximationFactory.
     class SpaiSchurComplementFactory : public MueLu::SingleLevelFactoryBase
     {
     public:
       explicit SpaiSchurComplementFactory(const Teuchos::ParameterList& list)
-          : options_(options_from(list))
-          , omega_(value_or<double>(list, "omega", 1.0))
+          : omega_(value_or<double>(list, "omega", 1.0))
       {
       }
 
@@ -48,47 +69,46 @@ namespace multigrid
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
         // as MueLu's SchurComplementFactory: the level's blocked operator, not the factory
         // manager's "A" (which is this factory's own output in the corrector group)
-        list->set<RCP<const MueLu::FactoryBase>>("A", MueLu::NoFactory::getRCP(),
-                                                 "Generating factory of the 2 x 2 blocked matrix");
+        list->set<FactoryPointer>("A", MueLu::NoFactory::getRCP(), "Generating factory of the 2 x 2 blocked matrix");
+        list->set<FactoryPointer>("Ainv", Teuchos::null, "InverseApproximationFactory of the A00 block");
         return list;
       }
-      void DeclareInput(Level& level) const override { Input(level, "A"); }
+      void DeclareInput(Level& level) const override
+      {
+        Input(level, "A");
+        Input(level, "Ainv");
+      }
 
       void Build(Level& level) const override
       {
-        MueLu::FactoryMonitor monitor(*this, "Schur complement with a sparse approximate inverse", level);
+        MueLu::FactoryMonitor monitor(*this, "Schur complement with an inverse approximation", level);
         auto bA = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(Get<RCP<Matrix>>(level, "A"));
         if (bA.is_null() || bA->Rows() != 2 || bA->Cols() != 2)
           throw InputError("SpaiSchurComplementFactory: expected a 2 x 2 blocked matrix");
-        RCP<Matrix> A00 = bA->getMatrix(0, 0), A01 = bA->getMatrix(0, 1), A10 = bA->getMatrix(1, 0),
-                    A11 = bA->getMatrix(1, 1);
-        RCP<Matrix> inverse = approximate_inverse(*A00, options_);
+        RCP<Matrix> A01 = bA->getMatrix(0, 1), A10 = bA->getMatrix(1, 0), A11 = bA->getMatrix(1, 1);
+        RCP<Matrix> inverse = Get<RCP<Matrix>>(level, "Ainv");
         using MM            = Xpetra::MatrixMatrix<SC, LO, GO, NO>;
-        Teuchos::FancyOStream& out = GetOStream(MueLu::Statistics2);
-        RCP<Matrix> inverse_A01 = MM::Multiply(*inverse, false, *A01, false, out);
-        RCP<Matrix> product     = MM::Multiply(*A10, false, *inverse_A01, false, out);
-        RCP<Matrix> S;
+        Teuchos::FancyOStream& out         = GetOStream(MueLu::Statistics2);
+        RCP<Matrix>            inverse_A01 = MM::Multiply(*inverse, false, *A01, false, out);
+        RCP<Matrix>            product     = MM::Multiply(*A10, false, *inverse_A01, false, out);
+        RCP<Matrix>            S;
         MM::TwoMatrixAdd(*A11, false, 1.0, *product, false, -1.0 / omega_, S, out);
         S->fillComplete(A11->getDomainMap(), A11->getRangeMap());
         // the block's striding, for the corrector's smoother and a later AMG on S
         S->SetFixedBlockSize(A11->GetFixedBlockSize());
         Set(level, "A", S);
-        Set(level, "Ainv", inverse); // the SPAI smoother of the same level can reuse it
       }
 
-      const InverseApproximationOptions& options() const { return options_; }
-
     private:
-      InverseApproximationOptions options_;
-      double                      omega_;
+      double omega_;
     };
 
+    /// x <- x + damping Â (b - A x), Â = "Ainv" of an InverseApproximationFactory.
     class SpaiSmoother : public MueLu::SmootherPrototype<double, int, long long, ::multigrid::NO>
     {
     public:
       explicit SpaiSmoother(const Teuchos::ParameterList& list)
-          : options_(options_from(list))
-          , sweeps_(value_or<int>(list, "relaxation: sweeps", 1))
+          : sweeps_(value_or<int>(list, "relaxation: sweeps", 1))
           , damping_(value_or<double>(list, "relaxation: damping factor", 1.0))
       {
       }
@@ -96,35 +116,22 @@ namespace multigrid
       RCP<const Teuchos::ParameterList> GetValidParameterList() const override
       {
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
-        list->set<RCP<const MueLu::FactoryBase>>("A", Teuchos::null, "Generating factory of the matrix");
-        list->set<RCP<const MueLu::FactoryBase>>("Ainv", Teuchos::null,
-                                                 "Factory that already computed the inverse approximation of A "
-                                                 "(e.g. the SPAI Schur complement factory); none: computed here");
+        list->set<FactoryPointer>("A", Teuchos::null, "Generating factory of the matrix");
+        list->set<FactoryPointer>("Ainv", Teuchos::null, "InverseApproximationFactory of the same matrix");
         return list;
       }
       void DeclareInput(MueLu::Level& level) const override
       {
         this->Input(level, "A");
-        if (reuse_)
-          this->Input(level, "Ainv");
+        this->Input(level, "Ainv");
       }
 
       void Setup(MueLu::Level& level) override
       {
         MueLu::FactoryMonitor monitor(*this, "SPAI smoother", level);
         A_       = this->template Get<RCP<::multigrid::Matrix>>(level, "A");
-        inverse_ = reuse_ ? this->template Get<RCP<::multigrid::Matrix>>(level, "Ainv")
-                          : approximate_inverse(*A_, options_);
+        inverse_ = this->template Get<RCP<::multigrid::Matrix>>(level, "Ainv");
         this->IsSetup(true);
-      }
-
-      const InverseApproximationOptions& options() const { return options_; }
-
-      /// Take Â from `factory` ("Ainv") instead of computing it.
-      void reuse_inverse_of(const RCP<const MueLu::FactoryBase>& factory)
-      {
-        reuse_ = true;
-        this->SetFactory("Ainv", factory);
       }
 
       void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, bool initial_guess_is_zero) const override
@@ -143,46 +150,57 @@ namespace multigrid
           }
       }
 
-      RCP<MueLu::SmootherPrototype<double, int, long long, ::multigrid::NO>> Copy() const override { return Teuchos::rcp(new SpaiSmoother(*this)); }
+      RCP<MueLu::SmootherPrototype<double, int, long long, ::multigrid::NO>> Copy() const override
+      {
+        return Teuchos::rcp(new SpaiSmoother(*this));
+      }
       std::string description() const override { return "SPAI smoother"; }
-      size_t getNodeSmootherComplexity() const override
+      size_t      getNodeSmootherComplexity() const override
       {
         return inverse_.is_null() ? 0 : static_cast<size_t>(inverse_->getNodeNumEntries());
       }
 
     private:
-      InverseApproximationOptions options_;
-      int                         sweeps_;
-      double                      damping_;
-      bool                        reuse_ = false;
-      RCP<::multigrid::Matrix>    A_, inverse_;
+      int                      sweeps_;
+      double                   damping_;
+      RCP<::multigrid::Matrix> A_, inverse_;
     };
+
+    /// The factory `list` names for `input` (e.g. "Ainv" -> "BeamInverse"), if any.
+    FactoryPointer named_input(const Teuchos::ParameterList& list, const std::string& input, const std::string& owner,
+                               const std::map<std::string, FactoryPointer>& factories)
+    {
+      if (!list.isParameter(input))
+        return Teuchos::null;
+      const auto name = list.get<std::string>(input);
+      const auto it   = factories.find(name);
+      if (it == factories.end())
+        throw InputError(owner + ": '" + input + "' names factory '" + name + "', which is not defined before it");
+      return it->second;
+    }
   } // namespace
 
   RCP<const MueLu::FactoryBase> build_spai_factory(const std::string& name, const Teuchos::ParameterList& list,
-                                                   const std::map<std::string, RCP<const MueLu::FactoryBase>>& factories)
+                                                   const std::map<std::string, FactoryPointer>& factories)
   {
-    if (name == "SpaiSchurComplementFactory")
-      return Teuchos::rcp(new SpaiSchurComplementFactory(list));
-    if (name == "SpaiSmoother")
+    RCP<MueLu::SingleLevelFactoryBase> factory;
+    if (name == "InverseApproximationFactory")
+      factory = Teuchos::rcp(new InverseApproximationFactory(list));
+    else if (name == "SpaiSchurComplementFactory")
+      factory = Teuchos::rcp(new SpaiSchurComplementFactory(list));
+    else if (name == "SpaiSmoother")
       {
         auto smoother = Teuchos::rcp(new SpaiSmoother(list));
-        if (list.isParameter("Ainv"))
-          {
-            const auto source = list.get<std::string>("Ainv");
-            const auto it     = factories.find(source);
-            if (it == factories.end())
-              throw InputError("SpaiSmoother: 'Ainv' names factory '" + source + "', which is not defined before it");
-            // Reuse only the same approximation (a baseline may use diag(A)^-1 in the Schur
-            // complement but keep the SPAI smoother).
-            const auto schur = Teuchos::rcp_dynamic_cast<const SpaiSchurComplementFactory>(it->second);
-            const auto& a = smoother->options();
-            if (!schur.is_null() && schur->options().type == a.type && schur->options().pattern_power == a.pattern_power &&
-                schur->options().drop_tolerance == a.drop_tolerance)
-              smoother->reuse_inverse_of(it->second);
-          }
+        for (const std::string input : {"A", "Ainv"})
+          if (auto f = named_input(list, input, name, factories); !f.is_null())
+            smoother->SetFactory(input, f);
         return Teuchos::rcp(new MueLu::SmootherFactory<SC, LO, GO, NO>(smoother, Teuchos::null));
       }
-    return Teuchos::null;
+    else
+      return Teuchos::null;
+    for (const std::string input : {"A", "Ainv"})
+      if (auto f = named_input(list, input, name, factories); !f.is_null())
+        factory->SetFactory(input, f);
+    return factory;
   }
 } // namespace multigrid

@@ -1,12 +1,13 @@
-// MueLu pieces of the beam/solid preset `schur-sa-amg(spai)` (seed 001), built on
-// inverse_approximation.h:
-//   SpaiSchurComplementFactory  S = A11 - (1/omega) A10 Â A01 on every level, Â the sparse
-//                               approximate inverse of A00 (spai, diagonal or lumping). MueLu
-//                               13.2's SchurComplementFactory only knows diag(A00)^-1.
-//   SpaiSmoother                x <- x + damping Â (b - A x), Â = SPAI of the level's matrix
-//                               (Bröker & Grote 2002), or the Â the Schur complement factory of
-//                               the same level computed ("Ainv"), so it is computed once.
-// Both are registered by name in ProjectFactoryFactory, so preset XML files can use them.
+// MueLu pieces of the beam/solid preset `schur-sa-amg(spai)` (seed 001: "special MueLu
+// factories"), built on inverse_approximation.h, for what MueLu 13.2 lacks:
+//   InverseApproximationFactory  "Ainv" = Â ≈ A^-1 of its "A": diagonal, lumping or spai
+//                                (min ||A Â - I||_F over the pattern of A or A^2, drop tolerance).
+//   SpaiSchurComplementFactory   S = A11 - (1/omega) A10 Â A01 on every level with Â = "Ainv"
+//                                (MueLu 13.2's SchurComplementFactory only knows diag(A00)^-1).
+//   SpaiSmoother                 x <- x + damping Â (b - A x) with Â = "Ainv" (Bröker & Grote
+//                                2002); sharing the Schur complement's Â computes it once.
+// Registered by name in ProjectFactoryFactory; in the XML, "A" and "Ainv" name the factories
+// that produce them (defined earlier in the list).
 #pragma once
 
 #include "types.h"

@@ -23,7 +23,7 @@ import subprocess
 COARSE = "template parameters/COARSE_MAX_SIZE=500"
 PRESETS = {
     "schur-sa-amg(spai)": ("schur-sa-amg(spai)", [COARSE]),
-    "schur-diagonal": ("schur-sa-amg(spai)", [COARSE, "template parameters/SCHUR_INVERSE=diagonal"]),
+    "schur-diagonal": ("schur-sa-amg(spai)", [COARSE, "template parameters/SCHUR_AINV=BeamDiagonalInverse"]),
     "block-diagonal-sa-amg": ("block-diagonal-sa-amg", [COARSE]),
     "cheapsimple(sa-amg)": ("cheapsimple(sa-amg)", ["primal solver/coarse: max size=500"]),
     "direct(superlu)": ("direct(superlu)", []),
