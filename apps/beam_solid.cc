@@ -38,8 +38,7 @@ int main(int argc, char** argv)
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::beam_solid::BeamSolidParameters::declare(prm);
-  try
-    {
+  return physics::run_app("beam_solid", root, [&]() {
       if (!physics::read_command_line(argc, argv, usage, prm, root))
         return 0;
       physics::beam_solid::BeamSolidParameters p;
@@ -61,23 +60,5 @@ int main(int argc, char** argv)
                     << ", largest beam/solid gap " << summary.max_gap << "\n";
         }
       return summary.converged ? 0 : 1;
-    }
-  catch (const multigrid::InputError& e)
-    {
-      if (root)
-        std::cerr << "beam_solid: " << e.what() << "\n";
-      return 2;
-    }
-  catch (const std::invalid_argument& e)
-    {
-      if (root)
-        std::cerr << "beam_solid: " << e.what() << "\n";
-      return 2;
-    }
-  catch (const std::exception& e)
-    {
-      if (root)
-        std::cerr << "beam_solid: error: " << e.what() << "\n";
-      return 3;
-    }
+    });
 }

@@ -42,8 +42,7 @@ int main(int argc, char** argv)
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::contact::ContactParameters::declare(prm);
-  try
-    {
+  return physics::run_app("contact_blocks", root, [&]() {
       if (!physics::read_command_line(argc, argv, usage, prm, root))
         return 0;
       physics::contact::ContactParameters p;
@@ -92,23 +91,5 @@ int main(int argc, char** argv)
                     << ", total normal force " << force << "\n";
         }
       return summary.converged ? 0 : 1;
-    }
-  catch (const multigrid::InputError& e)
-    {
-      if (root)
-        std::cerr << "contact_blocks: " << e.what() << "\n";
-      return 2;
-    }
-  catch (const std::invalid_argument& e)
-    {
-      if (root)
-        std::cerr << "contact_blocks: " << e.what() << "\n";
-      return 2;
-    }
-  catch (const std::exception& e)
-    {
-      if (root)
-        std::cerr << "contact_blocks: error: " << e.what() << "\n";
-      return 3;
-    }
+    });
 }

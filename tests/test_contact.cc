@@ -32,9 +32,9 @@ namespace
     p.pressure   = 1e5;
     p.load_steps = 1;
     p.dual       = dual;
-    p.preset     = "direct(superlu)";
-    p.linear_tolerance          = 1e-10;
-    p.newton_relative_tolerance = 1e-10;
+    p.solver.preset     = "direct(superlu)";
+    p.solver.linear_tolerance          = 1e-10;
+    p.solver.newton_relative_tolerance = 1e-10;
     p.vtk                       = false;
     p.output_directory = output(std::string("patch") + std::to_string(dim) + "d-" + (dual ? "dual" : "standard"));
     return p;
@@ -47,8 +47,8 @@ namespace
     p.gmsh_refinement = 4;
     p.displacement    = {0.005, -0.02};
     p.load_steps      = 2;
-    p.preset          = "emin(cheapsimple)";
-    p.overrides       = {"template parameters/MIN_AGG_SIZE=6", "template parameters/COARSE_MAX_SIZE=500"};
+    p.solver.preset          = "emin(cheapsimple)";
+    p.solver.overrides       = {"template parameters/MIN_AGG_SIZE=6", "template parameters/COARSE_MAX_SIZE=500"};
     p.vtk             = false;
     p.output_directory = output(name);
     return p;

@@ -56,20 +56,7 @@ namespace physics::beam_solid
     prm.declare_entry("Load steps", "1", Integer(1, 10000), "Equal load increments.");
     prm.leave_subsection();
 
-    prm.enter_subsection("Newton");
-    prm.declare_entry("Relative tolerance", "1e-6", Double(), "||r|| / ||r_0|| per load step (0 < tol < 1).");
-    prm.declare_entry("Absolute tolerance", "1e-12", Double(), "||r|| below this also counts as converged (>= 0).");
-    prm.declare_entry("Maximum iterations", "20", Integer(1, 1000), "Newton steps per load step.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Linear solver");
-    prm.declare_entry("Preset", "direct(superlu)", Anything(),
-                      "Preconditioner preset of multigrid/presets (solve_block_system --list-presets).");
-    prm.declare_entry("Overrides", "", Anything(), "Semicolon-separated PATH=VALUE changes of the preset.");
-    prm.declare_entry("Tolerance", "1e-8", Double(), "GMRES relative residual (0 < tol < 1).");
-    prm.declare_entry("Maximum iterations", "1000", Integer(1, 100000), "GMRES iterations.");
-    prm.declare_entry("Restart", "200", Integer(1, 10000), "GMRES restart length.");
-    prm.leave_subsection();
+    BeamSolidParameters().solver.declare(prm);
 
     prm.enter_subsection("Output");
     prm.declare_entry("Directory", "output/beam_solid", Anything(),
@@ -124,19 +111,7 @@ namespace physics::beam_solid
     load_steps = prm.get_integer("Load steps");
     prm.leave_subsection();
 
-    prm.enter_subsection("Newton");
-    newton_relative_tolerance = tolerance(prm.get_double("Relative tolerance"), "'Relative tolerance' (Newton)");
-    newton_absolute_tolerance = prm.get_double("Absolute tolerance");
-    newton_max_iterations     = prm.get_integer("Maximum iterations");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Linear solver");
-    preset                = prm.get("Preset");
-    overrides             = dealii::Utilities::split_string_list(prm.get("Overrides"), ';');
-    linear_tolerance      = tolerance(prm.get_double("Tolerance"), "'Tolerance' (Linear solver)");
-    linear_max_iterations = prm.get_integer("Maximum iterations");
-    restart               = prm.get_integer("Restart");
-    prm.leave_subsection();
+    solver.parse(prm);
 
     prm.enter_subsection("Output");
     output_directory = prm.get("Directory");

@@ -163,7 +163,7 @@ namespace physics::beam_solid
       pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells, " << dof_handler_.n_dofs()
              << " solid DOFs, beams with " << beam_.elements.size()
              << " elements, " << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
-             << p_.coupling << "), " << n_ranks_ << " ranks, preset " << p_.preset << "\n";
+             << p_.coupling << "), " << n_ranks_ << " ranks, preset " << p_.solver.preset << "\n";
     }
 
     multigrid::BlockSystem BeamSolidProblem::assemble(double load_factor)
@@ -313,12 +313,8 @@ namespace physics::beam_solid
       summary.beam_dofs       = beam_.n_dofs();
       summary.solid_dofs      = dof_handler_.n_dofs();
       summary.coupling_points = coupling_->n_points();
-      multigrid::Preset preset = multigrid::load_preset(p_.preset);
-      multigrid::apply_overrides(preset, p_.overrides);
-      multigrid::SolveOptions options;
-      options.tolerance      = p_.linear_tolerance;
-      options.max_iterations = p_.linear_max_iterations;
-      options.restart        = p_.restart;
+      const multigrid::Preset       preset  = p_.solver.load_preset();
+      const multigrid::SolveOptions options = p_.solver.solve_options();
       const GO n_beam        = beam_.n_dofs();
 
       pcout_ << "  step newton   |residual|    |r_beam|    |r_solid|   GMRES  setup[s] solve[s]\n";
@@ -328,7 +324,7 @@ namespace physics::beam_solid
           double       r0          = 0;
           bool         converged   = false;
           summary.residuals.emplace_back();
-          for (int it = 0; it <= p_.newton_max_iterations; ++it)
+          for (int it = 0; it <= p_.solver.newton_max_iterations; ++it)
             {
               auto         system = assemble(load_factor);
               const auto   norms  = system.block_norms(*system.rhs());
@@ -336,14 +332,14 @@ namespace physics::beam_solid
               if (it == 0)
                 r0 = norm;
               summary.residuals.back().push_back(norm);
-              converged = it > 0 && (norm <= p_.newton_relative_tolerance * r0 || norm <= p_.newton_absolute_tolerance);
+              converged = it > 0 && (norm <= p_.solver.newton_relative_tolerance * r0 || norm <= p_.solver.newton_absolute_tolerance);
               JsonLinesLog::Line line;
               line.add("load_step", step).add("newton", it).add("residual", norm).add("relative_residual", norm / r0)
                   .add("residual_beam", norms[0]).add("residual_solid", norms[1]).add("converged", converged);
               pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
                      << std::setw(13) << norm << std::setw(12) << norms[0] << std::setw(12) << norms[1]
                      << std::defaultfloat;
-              if (converged || it == p_.newton_max_iterations)
+              if (converged || it == p_.solver.newton_max_iterations)
                 {
                   pcout_ << "\n";
                   log_.write(line);

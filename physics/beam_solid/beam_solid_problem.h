@@ -7,6 +7,8 @@
 // solved by GMRES with a preset of multigrid/.
 #pragma once
 
+#include "common/solver_parameters.h"
+
 #include <deal.II/base/parameter_handler.h>
 
 #include <mpi.h>
@@ -36,14 +38,8 @@ namespace physics::beam_solid
     // Loading: clamped face x = 0, dead traction on x = size_x
     std::vector<double> traction{1.0, 0.0, 0.0};
     int                 load_steps = 1;
-    // Newton
-    double newton_relative_tolerance = 1e-6, newton_absolute_tolerance = 1e-12;
-    int    newton_max_iterations = 20;
-    // Linear solver
-    std::string              preset = "direct(superlu)";
-    std::vector<std::string> overrides;
-    double                   linear_tolerance = 1e-8;
-    int                      linear_max_iterations = 1000, restart = 200;
+    // Newton and linear solver
+    SolverParameters solver{1e-6, 1e-12, 20, "direct(superlu)", {}, 1e-8, 1000, 200};
     // Output
     std::string output_directory = "output/beam_solid";
     bool        vtk = true, export_systems = false;

@@ -1,5 +1,7 @@
 #include "common/app_parameters.h"
 
+#include "types.h"
+
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -71,5 +73,31 @@ namespace physics
         prm.leave_subsection();
       }
     return true;
+  }
+
+  int run_app(const std::string& app, bool root, const std::function<int()>& body)
+  {
+    try
+      {
+        return body();
+      }
+    catch (const multigrid::InputError& e)
+      {
+        if (root)
+          std::cerr << app << ": " << e.what() << "\n";
+        return 2;
+      }
+    catch (const std::invalid_argument& e)
+      {
+        if (root)
+          std::cerr << app << ": " << e.what() << "\n";
+        return 2;
+      }
+    catch (const std::exception& e)
+      {
+        if (root)
+          std::cerr << app << ": error: " << e.what() << "\n";
+        return 3;
+      }
   }
 } // namespace physics

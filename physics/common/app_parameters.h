@@ -5,6 +5,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <functional>
 #include <string>
 
 namespace physics
@@ -14,4 +15,9 @@ namespace physics
   /// Throws std::invalid_argument with a one-line message for an unknown argument, a missing or
   /// unparsable parameter file, or a --set that names no parameter or violates its pattern.
   bool read_command_line(int argc, char** argv, const std::string& usage, dealii::ParameterHandler& prm, bool root);
+
+  /// Runs an app's `body` (its exit status: 0 converged, 1 not) and turns what it throws into the
+  /// project's exit statuses, with one line "APP: message" on stderr (rank 0 only): 2 for bad
+  /// input (std::invalid_argument, multigrid::InputError), 3 for any other error.
+  int run_app(const std::string& app, bool root, const std::function<int()>& body);
 } // namespace physics

@@ -82,22 +82,7 @@ namespace physics::contact
                       "Face bounding boxes are enlarged by this times the face size (>= 0).");
     prm.leave_subsection();
 
-    prm.enter_subsection("Newton");
-    prm.declare_entry("Relative tolerance", "1e-8", Double(), "||r|| / ||r_0|| per load step (0 < tol < 1).");
-    prm.declare_entry("Absolute tolerance", "1e-12", Double(), "||r|| below this also counts as converged (>= 0).");
-    prm.declare_entry("Maximum iterations", "30", Integer(1, 1000), "Newton steps per load step.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Linear solver");
-    prm.declare_entry("Preset", "emin(cheapsimple)", Anything(),
-                      "Preconditioner preset of multigrid/presets (solve_block_system --list-presets).");
-    prm.declare_entry("Overrides", "", Anything(),
-                      "Semicolon-separated PATH=VALUE changes of the preset, e.g. "
-                      "'template parameters/MIN_AGG_SIZE=6'.");
-    prm.declare_entry("Tolerance", "1e-8", Double(), "GMRES relative residual (0 < tol < 1).");
-    prm.declare_entry("Maximum iterations", "500", Integer(1, 100000), "GMRES iterations.");
-    prm.declare_entry("Restart", "100", Integer(1, 10000), "GMRES restart length.");
-    prm.leave_subsection();
+    ContactParameters().solver.declare(prm);
 
     prm.enter_subsection("Output");
     prm.declare_entry("Directory", "output/contact", Anything(),
@@ -197,19 +182,7 @@ namespace physics::contact
       throw std::invalid_argument("parameter 'Search radius factor': expected a value >= 0");
     prm.leave_subsection();
 
-    prm.enter_subsection("Newton");
-    newton_relative_tolerance = tolerance(prm.get_double("Relative tolerance"), "'Relative tolerance' (Newton)");
-    newton_absolute_tolerance = prm.get_double("Absolute tolerance");
-    newton_max_iterations     = prm.get_integer("Maximum iterations");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Linear solver");
-    preset    = prm.get("Preset");
-    overrides = dealii::Utilities::split_string_list(prm.get("Overrides"), ';');
-    linear_tolerance = tolerance(prm.get_double("Tolerance"), "'Tolerance' (Linear solver)");
-    linear_max_iterations = prm.get_integer("Maximum iterations");
-    restart               = prm.get_integer("Restart");
-    prm.leave_subsection();
+    solver.parse(prm);
 
     prm.enter_subsection("Output");
     output_directory = prm.get("Directory");

@@ -241,7 +241,7 @@ namespace physics::contact
       pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells, "
              << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_slave_nodes()
              << " multipliers (" << (p_.dual ? "dual" : "standard") << "), " << Utilities::MPI::n_mpi_processes(comm_)
-             << " ranks, preset " << p_.preset;
+             << " ranks, preset " << p_.solver.preset;
       if (dynamics_)
         pcout_ << ", generalized-alpha (rho_inf " << p_.spectral_radius << ", dt " << p_.time_step << " s)";
       pcout_ << "\n";
@@ -378,12 +378,8 @@ namespace physics::contact
       };
       auto is_constrained = [&](GlobalIndex dof) { return constraints_.is_constrained(dof); };
 
-      multigrid::Preset preset = multigrid::load_preset(p_.preset);
-      multigrid::apply_overrides(preset, p_.overrides);
-      multigrid::SolveOptions options;
-      options.tolerance      = p_.linear_tolerance;
-      options.max_iterations = p_.linear_max_iterations;
-      options.restart        = p_.restart;
+      const multigrid::Preset       preset  = p_.solver.load_preset();
+      const multigrid::SolveOptions options = p_.solver.solve_options();
 
       TrilinosWrappers::SparseMatrix K;
       TrilinosWrappers::MPI::Vector  residual(owned_, comm_), du(owned_, comm_);
@@ -403,7 +399,7 @@ namespace physics::contact
           std::vector<bool> previous_active;
           bool              converged = false;
           summary.residuals.emplace_back();
-          for (int it = 0; it <= p_.newton_max_iterations; ++it)
+          for (int it = 0; it <= p_.solver.newton_max_iterations; ++it)
             {
               u_ghosted_ = u_;
               ContactContribution contribution;
@@ -441,7 +437,7 @@ namespace physics::contact
               summary.residuals.back().push_back(norm);
               summary.active_set_sizes.push_back(n_active);
               converged = it > 0 && !set_changed &&
-                          (norm <= p_.newton_relative_tolerance * r0 || norm <= p_.newton_absolute_tolerance);
+                          (norm <= p_.solver.newton_relative_tolerance * r0 || norm <= p_.solver.newton_absolute_tolerance);
 
               JsonLinesLog::Line line;
               line.add("load_step", step).add("load_factor", load_factor).add("time", time).add("newton", it)
@@ -452,7 +448,7 @@ namespace physics::contact
               pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
                      << std::setw(13) << norm << std::setw(12) << block_norms[0] << std::setw(12) << block_norms[1]
                      << std::defaultfloat << std::setw(8) << n_active << std::setw(9) << n_changed;
-              if (converged || it == p_.newton_max_iterations)
+              if (converged || it == p_.solver.newton_max_iterations)
                 {
                   pcout_ << "\n";
                   log_.write(line);

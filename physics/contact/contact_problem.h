@@ -4,6 +4,7 @@
 // system solved by GMRES with a block-AMG preset of multigrid/.
 #pragma once
 
+#include "common/solver_parameters.h"
 #include "contact/mortar_contact.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -42,14 +43,8 @@ namespace physics::contact
     bool   dual                   = true;
     double complementarity_factor = 1.0; ///< c_n = factor * E / h
     double search_radius_factor   = 1.0;
-    // Newton
-    double newton_relative_tolerance = 1e-8, newton_absolute_tolerance = 1e-12;
-    int    newton_max_iterations     = 30;
-    // Linear solver
-    std::string              preset = "emin(cheapsimple)";
-    std::vector<std::string> overrides;
-    double                   linear_tolerance = 1e-8;
-    int                      linear_max_iterations = 500, restart = 100;
+    // Newton and linear solver
+    SolverParameters solver{1e-8, 1e-12, 30, "emin(cheapsimple)", {}, 1e-8, 500, 100};
     // Output
     std::string output_directory = "output/contact";
     bool        vtk = true, export_systems = false;
