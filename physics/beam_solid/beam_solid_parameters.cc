@@ -81,10 +81,7 @@ namespace physics::beam_solid
         cells.push_back(static_cast<int>(v));
       }
     solid_youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Solid)");
-    solid_poisson_ratio  = prm.get_double("Poisson's ratio");
-    if (!(solid_poisson_ratio > -1 && solid_poisson_ratio < 0.5))
-      throw std::invalid_argument("parameter 'Poisson's ratio': expected -1 < nu < 0.5, got " +
-                                  std::to_string(solid_poisson_ratio));
+    solid_poisson_ratio  = parameters::poisson_ratio(prm.get_double("Poisson's ratio"));
     prm.leave_subsection();
 
     prm.enter_subsection("Fibres");

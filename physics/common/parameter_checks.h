@@ -17,6 +17,14 @@ namespace physics::parameters
     return v;
   }
 
+  /// Poisson's ratio of an isotropic material: -1 < v < 0.5.
+  inline double poisson_ratio(double v, const std::string& name = "Poisson's ratio")
+  {
+    if (!(v > -1 && v < 0.5))
+      throw std::invalid_argument("parameter '" + name + "': expected -1 < nu < 0.5, got " + std::to_string(v));
+    return v;
+  }
+
   /// A tolerance: 0 < v < 1. `name` says which parameter (and, if ambiguous, its section).
   inline double tolerance(double v, const std::string& name)
   {

@@ -2,6 +2,7 @@
 
 #include "common/parameter_checks.h"
 
+#include <iomanip>
 #include <sstream>
 
 namespace physics
@@ -60,6 +61,18 @@ namespace physics
     multigrid::Preset p = multigrid::load_preset(preset);
     multigrid::apply_overrides(p, overrides);
     return p;
+  }
+
+  void report_linear_solve(const multigrid::SolveReport& report, JsonLinesLog::Line& line,
+                           dealii::ConditionalOStream& console)
+  {
+    line.add("linear_iterations", report.iterations).add("linear_converged", report.converged)
+        .add("linear_relative_residual", report.relative_residual)
+        .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
+        .add("global_size", static_cast<long long>(report.global_size));
+    console << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
+            << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
+            << (report.converged ? "" : "  (GMRES not converged)") << "\n";
   }
 
   multigrid::SolveOptions SolverParameters::solve_options() const

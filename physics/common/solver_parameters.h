@@ -2,9 +2,12 @@
 // "Linear solver"), read once here; each app only chooses its defaults.
 #pragma once
 
+#include "common/run_output.h"
+
 #include "krylov_solver.h"
 #include "presets.h"
 
+#include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/parameter_handler.h>
 
 #include <string>
@@ -32,4 +35,9 @@ namespace physics
     multigrid::Preset           load_preset() const;
     multigrid::SolveOptions     solve_options() const;
   };
+
+  /// A Newton step's linear solve in the run log (iterations, convergence, true relative
+  /// residual, setup/solve seconds, size) and as the console columns "GMRES setup[s] solve[s]".
+  void report_linear_solve(const multigrid::SolveReport& report, JsonLinesLog::Line& line,
+                           dealii::ConditionalOStream& console);
 } // namespace physics

@@ -138,11 +138,8 @@ namespace physics::contact
     prm.enter_subsection("Material");
     law            = prm.get("Law");
     youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus");
-    poisson_ratio  = prm.get_double("Poisson's ratio");
+    poisson_ratio  = parameters::poisson_ratio(prm.get_double("Poisson's ratio"));
     density        = positive(prm.get_double("Density"), "Density");
-    if (!(poisson_ratio > -1 && poisson_ratio < 0.5))
-      throw std::invalid_argument("parameter 'Poisson's ratio': expected -1 < nu < 0.5, got " +
-                                  std::to_string(poisson_ratio));
     prm.leave_subsection();
 
     prm.enter_subsection("Loading");

@@ -485,14 +485,8 @@ namespace physics::contact
               summary.linear_iterations.push_back(report.iterations);
               summary.setup_seconds += report.preconditioner.setup_seconds;
               summary.linear_seconds += report.solve_seconds;
-              line.add("linear_iterations", report.iterations).add("linear_converged", report.converged)
-                  .add("linear_relative_residual", report.relative_residual)
-                  .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
-                  .add("global_size", static_cast<long long>(report.global_size));
+              report_linear_solve(report, line, pcout_);
               log_.write(line);
-              pcout_ << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
-                     << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
-                     << (report.converged ? "" : "  (GMRES not converged)") << "\n";
 
               // Update u and lambda from the solution (assembly numbering).
               const auto          data = x->getData(0);
