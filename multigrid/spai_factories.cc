@@ -11,7 +11,7 @@
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_MatrixMatrix.hpp>
-#include <Xpetra_MultiVectorFactory.hpp>
+#include <Xpetra_TpetraMultiVector.hpp>
 
 namespace multigrid
 {
@@ -134,20 +134,12 @@ namespace multigrid
         this->IsSetup(true);
       }
 
-      void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, bool initial_guess_is_zero) const override
+      /// The sweeps of spai_smooth() (inverse_approximation.h) on the Tpetra objects underneath.
+      void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, bool /*initial_guess_is_zero*/) const override
       {
-        auto r = Xpetra::MultiVectorFactory<double, int, long long, ::multigrid::NO>::Build(B.getMap(), B.getNumVectors());
-        for (int s = 0; s < sweeps_; ++s)
-          {
-            if (s == 0 && initial_guess_is_zero)
-              r->update(1.0, B, 0.0);
-            else
-              {
-                A_->apply(X, *r);
-                r->update(1.0, B, -1.0); // r = b - A x
-              }
-            inverse_->apply(*r, X, Teuchos::NO_TRANS, damping_, s == 0 && initial_guess_is_zero ? 0.0 : 1.0);
-          }
+        using Helpers = Xpetra::Helpers<double, int, long long, ::multigrid::NO>;
+        spai_smooth(Helpers::Op2TpetraCrs(*A_), Helpers::Op2TpetraCrs(*inverse_), Xpetra::toTpetra(B),
+                    Xpetra::toTpetra(X), sweeps_, damping_);
       }
 
       RCP<MueLu::SmootherPrototype<double, int, long long, ::multigrid::NO>> Copy() const override
