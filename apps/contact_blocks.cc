@@ -38,7 +38,9 @@ Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 int main(int argc, char** argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Tpetra::ScopeGuard                       tpetra(&argc, &argv);
+  // Kokkos (started by Tpetra) would answer --help with its own page: it sees the program name only.
+  int                                      kokkos_argc = 1;
+  Tpetra::ScopeGuard                       tpetra(&kokkos_argc, &argv);
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::contact::ContactParameters::declare(prm);

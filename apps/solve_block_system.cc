@@ -145,7 +145,9 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
 
 int main(int argc, char** argv)
 {
-  Tpetra::ScopeGuard mpi(&argc, &argv);
+  // Kokkos (started by Tpetra) would answer --help with its own page: it sees the program name only.
+  int                kokkos_argc = 1;
+  Tpetra::ScopeGuard mpi(&kokkos_argc, &argv);
   auto               comm = Tpetra::getDefaultComm();
   const bool         root = comm->getRank() == 0;
   try
