@@ -52,8 +52,10 @@ TEST_P(Coupling, RigidMotionLeavesNoGap)
   add_straight_fibre(beam, Point<3>(0.05, 0.1, 0.2), Point<3>(0.93, 1.1, 0.7), 7);
   add_straight_fibre(beam, Point<3>(0.0, 0.61, 0.37), Point<3>(1.0, 0.61, 0.37), 5);
   beam.check_and_set_tangents("test");
+  // Beam nodes split among the ranks round-robin: rows of B are summed across ranks.
+  const unsigned int      n_ranks = Utilities::MPI::n_mpi_processes(comm);
   const BeamSolidCoupling coupling(beam, dof_handler, GetParam() == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar,
-                                   6, "test");
+                                   6, "test", [&](std::size_t n) { return static_cast<unsigned int>(n % n_ranks); }, comm);
   double total_kappa = 0;
   for (double k : coupling.kappa())
     total_kappa += k;

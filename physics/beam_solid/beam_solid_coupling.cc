@@ -1,6 +1,7 @@
 #include "beam_solid/beam_solid_coupling.h"
 
 #include <deal.II/base/geometry_info.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/mapping_q1.h>
 #include <deal.II/grid/grid_tools.h>
@@ -105,30 +106,47 @@ namespace physics::beam_solid
   } // namespace
 
   BeamSolidCoupling::BeamSolidCoupling(const BeamMesh& beam, const DoFHandler<3>& solid, CouplingMethod method,
-                                       int gauss_points, const std::string& source)
-      : n_beam_dofs_(beam.n_dofs())
+                                       int gauss_points, const std::string& source,
+                                       const std::function<unsigned int(std::size_t)>& node_owner, MPI_Comm comm)
+      : comm_(comm)
+      , n_beam_dofs_(beam.n_dofs())
   {
-    const auto&             tria = solid.get_triangulation();
+    const unsigned int        rank = Utilities::MPI::this_mpi_process(comm);
+    const auto&               tria = solid.get_triangulation();
     const GridTools::Cache<3> cache(tria, StaticMappingQ1<3>::mapping);
-    const QGauss<1>         gauss(gauss_points); // on [0, 1]
+    const QGauss<1>           gauss(gauss_points); // on [0, 1]
 
+    // This rank's elements: those whose first node it owns.
     std::vector<IntegrationPoint> points;
-    for (std::size_t e = 0; e < beam.elements.size(); ++e)
-      if (method == CouplingMethod::mortar)
-        mortar_points(beam, e, cache, gauss, source, points);
-      else
-        for (unsigned int q = 0; q < gauss.size(); ++q)
+    std::string                   error;
+    try
+      {
+        for (std::size_t e = 0; e < beam.elements.size(); ++e)
           {
-            const double xi    = 2 * gauss.point(q)[0] - 1;
-            const auto   found = locate(cache, position(beam, e, xi), e, source);
-            points.push_back({e, xi, gauss.weight(q) * beam.element_length(e), found.first, found.second});
+            if (node_owner(beam.elements[e][0]) != rank)
+              continue;
+            if (method == CouplingMethod::mortar)
+              mortar_points(beam, e, cache, gauss, source, points);
+            else
+              for (unsigned int q = 0; q < gauss.size(); ++q)
+                {
+                  const double xi    = 2 * gauss.point(q)[0] - 1;
+                  const auto   found = locate(cache, position(beam, e, xi), e, source);
+                  points.push_back({e, xi, gauss.weight(q) * beam.element_length(e), found.first, found.second});
+                }
           }
-    n_points_ = points.size();
+      }
+    catch (const std::exception& e)
+      {
+        error = e.what();
+      }
+    throw_if_any_rank_failed(error, comm);
+    n_points_ = Utilities::MPI::sum(points.size(), comm);
 
-    // Rows j of B = [D, -M], keyed by the x-component column.
-    std::vector<std::map<GlobalIndex, Entry>> rows(beam.nodes.size());
+    // Partial rows j of B = [D, -M] from this rank's points, row j -> (x-component column ->
+    // weight); the y and z columns follow the x column (beam: 6 DOFs per node, solid: node-major).
+    RowPieces partial;
     kappa_.assign(beam.nodes.size(), 0.0);
-    std::set<GlobalIndex> solid_dofs;
     for (const auto& point : points)
       {
         const auto&  nodes = beam.elements[point.element];
@@ -142,72 +160,68 @@ namespace physics::beam_solid
             kappa_[j] += phi * point.ds;
             // D: beam position / tangent unknowns of both element nodes.
             for (int k = 0; k < 4; ++k)
-              {
-                const GlobalIndex base = 6 * static_cast<GlobalIndex>(nodes[k / 2]) + 3 * (k % 2);
-                auto&             entry = rows[j][base];
-                entry.columns           = {{base, base + 1, base + 2}};
-                entry.weight += phi * h[k] * point.ds;
-              }
+              partial[j][6 * static_cast<GlobalIndex>(nodes[k / 2]) + 3 * (k % 2)] += phi * h[k] * point.ds;
             // -M: solid vertex unknowns of the cell, trilinear shape functions.
             for (unsigned int v = 0; v < GeometryInfo<3>::vertices_per_cell; ++v)
-              {
-                const double N = GeometryInfo<3>::d_linear_shape_function(point.unit, v);
-                std::array<GlobalIndex, 3> columns;
-                for (unsigned int c = 0; c < 3; ++c)
-                  {
-                    columns[c] = n_beam_dofs_ + cell->vertex_dof_index(v, c);
-                    solid_dofs.insert(cell->vertex_dof_index(v, c));
-                  }
-                auto& entry   = rows[j][columns[0]];
-                entry.columns = columns;
-                entry.weight -= phi * N * point.ds;
-              }
+              partial[j][n_beam_dofs_ + cell->vertex_dof_index(v, 0)] -=
+                  phi * GeometryInfo<3>::d_linear_shape_function(point.unit, v) * point.ds;
           }
       }
-    rows_.resize(rows.size());
-    for (std::size_t j = 0; j < rows.size(); ++j)
-      for (const auto& [key, entry] : rows[j])
-        rows_[j].push_back(entry);
+    Utilities::MPI::sum(kappa_, comm, kappa_);
+
+    // Whole rows at the owners of their multiplier nodes.
+    std::set<GlobalIndex> solid_dofs;
+    for (const auto& [j, row] : send_rows_to_owners(partial, [&](GlobalIndex n) { return node_owner(n); }, comm))
+      {
+        auto& entries = rows_[j];
+        for (const auto& [column, weight] : row)
+          {
+            entries.push_back({{column, column + 1, column + 2}, weight});
+            if (column >= n_beam_dofs_)
+              for (unsigned int c = 0; c < 3; ++c)
+                solid_dofs.insert(column - n_beam_dofs_ + c);
+          }
+      }
     solid_dofs_.assign(solid_dofs.begin(), solid_dofs.end());
   }
 
   std::vector<std::array<double, 3>> BeamSolidCoupling::gaps(const std::vector<double>& beam_dofs,
                                                              const TrilinosWrappers::MPI::Vector& solid) const
   {
-    std::vector<std::array<double, 3>> g(rows_.size(), {{0, 0, 0}});
-    for (std::size_t j = 0; j < rows_.size(); ++j)
-      for (const auto& entry : rows_[j])
+    std::vector<double> g(3 * kappa_.size(), 0.0);
+    for (const auto& [j, row] : rows_)
+      for (const auto& entry : row)
         for (unsigned int c = 0; c < 3; ++c)
           {
             const GlobalIndex col   = entry.columns[c];
             const double      value = col < n_beam_dofs_ ? beam_dofs[col] : solid[col - n_beam_dofs_];
-            g[j][c] += entry.weight * value;
+            g[3 * j + c] += entry.weight * value;
           }
-    return g;
+    Utilities::MPI::sum(g, comm_, g);
+    std::vector<std::array<double, 3>> result(kappa_.size());
+    for (std::size_t j = 0; j < result.size(); ++j)
+      result[j] = {{g[3 * j], g[3 * j + 1], g[3 * j + 2]}};
+    return result;
   }
 
-  void BeamSolidCoupling::add_penalty(double epsilon, const std::vector<double>& beam_dofs,
-                                      const TrilinosWrappers::MPI::Vector& solid,
-                                      const std::function<bool(GlobalIndex)>& keep,
-                                      std::map<GlobalIndex, double>& residual, RowPieces& matrix) const
+  RowPieces BeamSolidCoupling::penalty_matrix(double epsilon,
+                                              const std::function<unsigned int(GlobalIndex)>& row_owner) const
   {
-    const auto g = gaps(beam_dofs, solid);
-    for (std::size_t j = 0; j < rows_.size(); ++j)
+    // Node j contributes eps / kappa_j (B_j)^T B_j: every pair of its entries, per component.
+    RowPieces matrix;
+    for (const auto& [j, row] : rows_)
       {
         if (kappa_[j] <= 0)
           continue;
         const double scale = epsilon / kappa_[j];
-        for (const auto& a : rows_[j])
+        for (const auto& a : row)
           for (unsigned int c = 0; c < 3; ++c)
             {
-              const GlobalIndex row = a.columns[c];
-              if (!keep(row))
-                continue;
-              residual[row] += scale * a.weight * g[j][c];
-              auto& matrix_row = matrix[row];
-              for (const auto& b : rows_[j])
+              auto& matrix_row = matrix[a.columns[c]];
+              for (const auto& b : row)
                 matrix_row[b.columns[c]] += scale * a.weight * b.weight;
             }
       }
+    return send_rows_to_owners(matrix, row_owner, comm_);
   }
 } // namespace physics::beam_solid

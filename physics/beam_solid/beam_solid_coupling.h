@@ -14,9 +14,13 @@
 // faces and integrates every piece with Gauss points. Beam points are located in the solid with
 // deal.II's GridTools::Cache (an R-tree of cell bounding boxes).
 //
-// Parallel: the solid triangulation is a parallel::shared one and the beams are small next to
-// the solid, so every rank computes the (beam-sized) coupling operator redundantly and keeps the
-// rows it owns. Global numbering of the coupled system: beam DOFs [0, n_B) (6 per node),
+// Parallel: the solid triangulation is a parallel::shared one (every rank can locate any point),
+// the beam nodes are split among the ranks by `node_owner`. Each rank integrates the beam elements
+// whose first node it owns (locating only their points), and the partial rows of B are summed at
+// the owner of their multiplier node: rows of B live once, where their beam node lives. The
+// penalty matrix eps B^T k^-1 B is formed there and its rows are sent to the owners of the beam or
+// solid DOFs they belong to. kappa and the gaps are beam-sized vectors shared by all ranks (like
+// the beam unknowns). Global numbering of the coupled system: beam DOFs [0, n_B) (6 per node),
 // then solid DOFs n_B + (deal.II DOF index).
 #pragma once
 
@@ -27,6 +31,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <array>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -42,10 +47,13 @@ namespace physics::beam_solid
   class BeamSolidCoupling
   {
   public:
-    /// Locates the beam integration points in `solid` (Q1 vector FE). Throws std::invalid_argument
-    /// naming `source` when a beam point lies outside the solid.
+    /// Locates the integration points of this rank's beam elements (those whose first node
+    /// `node_owner` assigns to it) in `solid` (Q1 vector FE) and sums the rows of B at their
+    /// owners (collective). Throws std::invalid_argument naming `source` when a beam point lies
+    /// outside the solid (on every rank).
     BeamSolidCoupling(const BeamMesh& beam, const dealii::DoFHandler<3>& solid, CouplingMethod method,
-                      int gauss_points, const std::string& source);
+                      int gauss_points, const std::string& source,
+                      const std::function<unsigned int(std::size_t)>& node_owner, MPI_Comm comm);
 
     /// One row j of B = [D, -M] (per Cartesian component): column ids of the 3 components and a
     /// scalar weight.
@@ -54,30 +62,32 @@ namespace physics::beam_solid
       std::array<GlobalIndex, 3> columns;
       double                     weight;
     };
-    const std::vector<std::vector<Entry>>& rows() const { return rows_; }
-    const std::vector<double>&             kappa() const { return kappa_; }
-    /// Solid DOFs the coupling reads (ghost them in the solid vector).
+    /// The rows of B of this rank's beam nodes, by node.
+    const std::map<std::size_t, std::vector<Entry>>& rows() const { return rows_; }
+    /// kappa_j of every beam node (on every rank).
+    const std::vector<double>& kappa() const { return kappa_; }
+    /// Solid DOFs the local rows of B read (ghost them in the solid vector).
     const std::vector<GlobalIndex>& solid_dofs() const { return solid_dofs_; }
-    /// Number of solid cells the beam integration touched, and integration points.
+    /// Number of integration points, on all ranks together.
     std::size_t n_points() const { return n_points_; }
 
-    /// Gap per multiplier node and component, g_j = (D d_B - M d_S)_j, from the beam DOFs and the
-    /// solid displacement (ghosted, incl. solid_dofs()).
+    /// Gap per multiplier node and component, g_j = (D d_B - M d_S)_j, of every beam node on
+    /// every rank (collective), from the beam DOFs and the solid displacement (ghosted, incl.
+    /// solid_dofs()).
     std::vector<std::array<double, 3>> gaps(const std::vector<double>& beam_dofs,
                                             const dealii::TrilinosWrappers::MPI::Vector& solid) const;
 
-    /// Adds eps B^T k^-1 B d to `residual` and eps B^T k^-1 B to `matrix`, for the rows `keep`
-    /// accepts (global numbering of the coupled system).
-    void add_penalty(double epsilon, const std::vector<double>& beam_dofs,
-                     const dealii::TrilinosWrappers::MPI::Vector& solid,
-                     const std::function<bool(GlobalIndex)>& keep, std::map<GlobalIndex, double>& residual,
-                     RowPieces& matrix) const;
+    /// The penalty matrix eps B^T k^-1 B (global numbering of the coupled system), its rows sent
+    /// to `row_owner` (collective): returns the rows this rank owns. It is constant, and the
+    /// coupling forces are this matrix times the coupled displacement vector.
+    RowPieces penalty_matrix(double epsilon, const std::function<unsigned int(GlobalIndex)>& row_owner) const;
 
   private:
-    unsigned int                    n_beam_dofs_;
-    std::vector<std::vector<Entry>> rows_; ///< per beam node
-    std::vector<double>             kappa_;
-    std::vector<GlobalIndex>        solid_dofs_;
-    std::size_t                     n_points_ = 0;
+    MPI_Comm                                  comm_;
+    unsigned int                              n_beam_dofs_;
+    std::map<std::size_t, std::vector<Entry>> rows_;
+    std::vector<double>                       kappa_;
+    std::vector<GlobalIndex>                  solid_dofs_;
+    std::size_t                               n_points_ = 0;
   };
 } // namespace physics::beam_solid

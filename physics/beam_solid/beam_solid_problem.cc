@@ -18,6 +18,7 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
@@ -73,6 +74,16 @@ namespace physics::beam_solid
       void set_nullspaces(multigrid::BlockSystem& system) const;
       void write_output(int step);
       bool owns_beam_node(std::size_t n) const { return n >= beam_first_ && n < beam_end_; }
+      /// Beam nodes are split into contiguous blocks, [n N / P, (n + 1) N / P) on rank n.
+      unsigned int beam_node_owner(std::size_t n) const
+      {
+        return static_cast<unsigned int>(((n + 1) * n_ranks_ - 1) / beam_.nodes.size());
+      }
+      /// Is coupled-system DOF g a solid DOF with a Dirichlet constraint?
+      bool constrained(GlobalIndex g) const
+      {
+        return g >= beam_.n_dofs() && constraints_.is_constrained(g - beam_.n_dofs());
+      }
 
       const BeamSolidParameters& p_;
       MPI_Comm                   comm_;
@@ -90,6 +101,7 @@ namespace physics::beam_solid
       BeamMesh                           beam_;
       BeamSection                        section_;
       std::unique_ptr<BeamSolidCoupling> coupling_;
+      RowPieces                          coupling_matrix_; ///< owned rows of eps B^T k^-1 B (constant)
       std::size_t                        beam_first_ = 0, beam_end_ = 0; ///< owned beam nodes
 
       TrilinosWrappers::MPI::Vector u_, u_ghosted_;
@@ -143,17 +155,35 @@ namespace physics::beam_solid
                   ? generate_fibres(p_)
                   : read_beam_mesh(gmsh_mesh(p_.beam_file, 1, 1, p_.output_directory, comm_));
       section_ = BeamSection::circular(p_.beam_youngs_modulus, p_.fibre_radius);
-      coupling_ = std::make_unique<BeamSolidCoupling>(
-          beam_, dof_handler_, p_.coupling == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar, p_.gauss_points,
-          "Fibres");
       // Beam nodes: contiguous blocks per rank.
       const std::size_t n_nodes = beam_.nodes.size();
       beam_first_               = n_nodes * rank_ / n_ranks_;
       beam_end_                 = n_nodes * (rank_ + 1) / n_ranks_;
       d_beam_.assign(beam_.n_dofs(), 0.0);
 
+      // The coupling is linear in the unknowns and tied to the reference configuration: its
+      // matrix is built once. Rows of constrained solid DOFs are dropped (those keep K_S's
+      // identity rows).
+      Timer coupling_timer;
+      coupling_ = std::make_unique<BeamSolidCoupling>(
+          beam_, dof_handler_, p_.coupling == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar, p_.gauss_points,
+          "Fibres", [this](std::size_t n) { return beam_node_owner(n); }, comm_);
+      const auto        owned_per_rank = Utilities::MPI::all_gather(comm_, owned_);
+      const GlobalIndex n_beam         = beam_.n_dofs();
+      coupling_matrix_                 = coupling_->penalty_matrix(p_.penalty, [&](GlobalIndex g) {
+        return g < n_beam ? beam_node_owner(g / 6) : owning_rank(owned_per_rank, g - n_beam);
+      });
+      for (auto it = coupling_matrix_.begin(); it != coupling_matrix_.end();)
+        it = constrained(it->first) ? coupling_matrix_.erase(it) : std::next(it);
+      const double coupling_seconds = coupling_timer.wall_time();
+
+      // Ghosts: what the solid assembly, the local rows of B and the coupling matrix read.
       ghosts_ = relevant_;
       ghosts_.add_indices(coupling_->solid_dofs().begin(), coupling_->solid_dofs().end());
+      for (const auto& [row, entries] : coupling_matrix_)
+        for (const auto& [column, value] : entries)
+          if (column >= n_beam)
+            ghosts_.add_index(column - n_beam);
       u_.reinit(owned_, comm_);
       u_ghosted_.reinit(owned_, ghosts_, comm_);
       if (rank_ == 0)
@@ -163,7 +193,8 @@ namespace physics::beam_solid
       pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells, " << dof_handler_.n_dofs()
              << " solid DOFs, beams with " << beam_.elements.size()
              << " elements, " << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
-             << p_.coupling << "), " << n_ranks_ << " ranks, preset " << p_.solver.preset << "\n";
+             << p_.coupling << ", " << coupling_seconds << " s), " << n_ranks_ << " ranks, preset "
+             << p_.solver.preset << "\n";
     }
 
     multigrid::BlockSystem BeamSolidProblem::assemble(double load_factor)
@@ -198,23 +229,18 @@ namespace physics::beam_solid
                 beam_rows[row][6 * beam_.elements[e][j / 6] + j % 6] += ed.hessian[12 * i + j];
             }
         }
-      const std::size_t n_nodes = beam_.nodes.size();
-      auto              owner   = [&](GlobalIndex row) -> unsigned int {
-        const std::size_t node = row / 6;
-        return static_cast<unsigned int>(((node + 1) * n_ranks_ - 1) / n_nodes);
-      };
-      beam_rows     = send_rows_to_owners(beam_rows, owner, comm_);
-      beam_residual = send_entries_to_owners(beam_residual, owner, comm_);
+      beam_rows     = send_rows_to_owners(beam_rows, [this](GlobalIndex row) { return beam_node_owner(row / 6); }, comm_);
+      beam_residual = send_entries_to_owners(beam_residual, [this](GlobalIndex row) { return beam_node_owner(row / 6); },
+                                             comm_);
 
-      // Coupling (computed redundantly; each rank keeps its rows). Constrained solid DOFs keep
-      // their identity rows, and their columns are dropped (their increments are zero).
-      auto constrained = [&](GlobalIndex g) { return g >= static_cast<GlobalIndex>(n_beam) && constraints_.is_constrained(g - n_beam); };
-      auto keep        = [&](GlobalIndex g) {
-        return g < static_cast<GlobalIndex>(n_beam) ? owns_beam_node(g / 6) : owned_.is_element(g - n_beam) && !constrained(g);
-      };
-      RowPieces                     coupling_rows;
+      // Coupling forces: the (owned rows of the) constant penalty matrix times the displacements.
       std::map<GlobalIndex, double> coupling_residual;
-      coupling_->add_penalty(p_.penalty, d_beam_, u_ghosted_, keep, coupling_residual, coupling_rows);
+      for (const auto& [row, entries] : coupling_matrix_)
+        {
+          double& f = coupling_residual[row];
+          for (const auto& [column, value] : entries)
+            f += value * (column < static_cast<GlobalIndex>(n_beam) ? d_beam_[column] : u_ghosted_[column - n_beam]);
+        }
 
       // Rows of the merged system: owned beam DOFs, then owned solid DOFs.
       std::vector<GO>                   beam_gids, solid_gids;
@@ -226,7 +252,7 @@ namespace physics::beam_solid
       for (const auto i : owned_)
         solid_gids.push_back(n_beam + static_cast<GO>(i));
       auto add = [&](GO g, std::map<GO, double> entries, double residual) {
-        for (const auto& piece : {&beam_rows, &coupling_rows})
+        for (const auto& piece : {&beam_rows, &coupling_matrix_})
           if (const auto it = piece->find(g); it != piece->end())
             for (const auto& [c, v] : it->second)
               if (!constrained(c))

@@ -1,5 +1,6 @@
 #include "common/row_exchange.h"
 
+#include <stdexcept>
 #include <vector>
 
 namespace physics
@@ -75,5 +76,22 @@ namespace physics
     for (const auto& t : all_to_all(outgoing, comm))
       result[t.row] += t.value;
     return result;
+  }
+
+  void throw_if_any_rank_failed(const std::string& local_error, MPI_Comm comm)
+  {
+    int rank = 0, n_ranks = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &n_ranks);
+    int first = local_error.empty() ? n_ranks : rank;
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+    if (first == n_ranks)
+      return;
+    std::string message = local_error;
+    int         length  = static_cast<int>(message.size());
+    MPI_Bcast(&length, 1, MPI_INT, first, comm);
+    message.resize(length);
+    MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
+    throw std::invalid_argument(message);
   }
 } // namespace physics

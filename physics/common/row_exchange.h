@@ -11,6 +11,7 @@
 
 #include <functional>
 #include <map>
+#include <string>
 #include <vector>
 
 namespace physics
@@ -30,4 +31,9 @@ namespace physics
   std::map<GlobalIndex, double> send_entries_to_owners(const std::map<GlobalIndex, double>& entries,
                                                        const std::function<unsigned int(GlobalIndex)>& owner,
                                                        MPI_Comm comm);
+
+  /// Collective: when `local_error` is non-empty on some rank, every rank throws
+  /// std::invalid_argument with the message of the lowest such rank (input errors found by one
+  /// rank's share of the work reach the root's error line and nobody waits forever).
+  void throw_if_any_rank_failed(const std::string& local_error, MPI_Comm comm);
 } // namespace physics
