@@ -29,6 +29,7 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -180,10 +181,14 @@ namespace physics::beam_solid
       // Ghosts: what the solid assembly, the local rows of B and the coupling matrix read.
       ghosts_ = relevant_;
       ghosts_.add_indices(coupling_->solid_dofs().begin(), coupling_->solid_dofs().end());
+      std::vector<GlobalIndex> read;
       for (const auto& [row, entries] : coupling_matrix_)
         for (const auto& [column, value] : entries)
           if (column >= n_beam)
-            ghosts_.add_index(column - n_beam);
+            read.push_back(column - n_beam);
+      std::sort(read.begin(), read.end());
+      read.erase(std::unique(read.begin(), read.end()), read.end());
+      ghosts_.add_indices(read.begin(), read.end());
       u_.reinit(owned_, comm_);
       u_ghosted_.reinit(owned_, ghosts_, comm_);
       if (rank_ == 0)
@@ -352,7 +357,9 @@ namespace physics::beam_solid
           summary.residuals.emplace_back();
           for (int it = 0; it <= p_.solver.newton_max_iterations; ++it)
             {
-              auto         system = assemble(load_factor);
+              Timer        assembly_timer;
+              auto         system           = assemble(load_factor);
+              const double assembly_seconds = assembly_timer.wall_time();
               const auto   norms  = system.block_norms(*system.rhs());
               const double norm   = std::hypot(norms[0], norms[1]);
               if (it == 0)
@@ -361,7 +368,8 @@ namespace physics::beam_solid
               converged = it > 0 && (norm <= p_.solver.newton_relative_tolerance * r0 || norm <= p_.solver.newton_absolute_tolerance);
               JsonLinesLog::Line line;
               line.add("load_step", step).add("newton", it).add("residual", norm).add("relative_residual", norm / r0)
-                  .add("residual_beam", norms[0]).add("residual_solid", norms[1]).add("converged", converged);
+                  .add("residual_beam", norms[0]).add("residual_solid", norms[1]).add("converged", converged)
+                  .add("assembly_seconds", assembly_seconds);
               pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
                      << std::setw(13) << norm << std::setw(12) << norms[0] << std::setw(12) << norms[1]
                      << std::defaultfloat;

@@ -10,6 +10,7 @@
 
 #include "types.h"
 
+#include <deal.II/lac/trilinos_index_access.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
@@ -39,8 +40,17 @@ namespace physics
   void add_row(const dealii::TrilinosWrappers::SparseMatrix& A, dealii::types::global_dof_index row,
                const ColumnMap& column_gid, std::map<multigrid::GO, double>& entries)
   {
-    for (auto it = A.begin(row); it != A.end(row); ++it)
-      entries[column_gid(it->column())] += it->value();
+    // A view of the Epetra row: deal.II's row iterators copy the row on construction, and an
+    // end(row) in the loop condition makes that quadratic in the row length.
+    const Epetra_CrsMatrix& m     = A.trilinos_matrix();
+    const int               local = m.LRID(static_cast<dealii::TrilinosWrappers::types::int_type>(row));
+    int                     n     = 0;
+    double*                 values  = nullptr;
+    int*                    columns = nullptr;
+    m.ExtractMyRowView(local, n, values, columns);
+    for (int k = 0; k < n; ++k)
+      entries[column_gid(static_cast<dealii::types::global_dof_index>(
+          dealii::TrilinosWrappers::global_column_index(m, columns[k])))] += values[k];
   }
 
   /// The merged matrix of a coupled system from rows in global ids: rows[i] is row gids[i]

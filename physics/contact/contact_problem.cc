@@ -401,6 +401,7 @@ namespace physics::contact
           summary.residuals.emplace_back();
           for (int it = 0; it <= p_.solver.newton_max_iterations; ++it)
             {
+              Timer assembly_timer;
               u_ghosted_ = u_;
               ContactContribution contribution;
               contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), lambda_,
@@ -430,7 +431,8 @@ namespace physics::contact
               pieces = send_entries_to_owners(pieces, owner, comm_);
               auto linear = build_contact_system<dim>(comm_, owned_nodes_, *contact_, owned_, ghosts_, K, residual,
                                                       rows, pieces);
-              const auto block_norms = linear.system.block_norms(*linear.system.rhs());
+              const double assembly_seconds = assembly_timer.wall_time();
+              const auto   block_norms      = linear.system.block_norms(*linear.system.rhs());
               const double norm = std::hypot(block_norms[0], block_norms[1]);
               if (it == 0)
                 r0 = norm;
@@ -444,7 +446,7 @@ namespace physics::contact
                   .add("residual", norm)
                   .add("relative_residual", r0 > 0 ? norm / r0 : 0.0).add("residual_displacement", block_norms[0])
                   .add("residual_constraint", block_norms[1]).add("active", n_active).add("active_changed", n_changed)
-                  .add("converged", converged);
+                  .add("converged", converged).add("assembly_seconds", assembly_seconds);
               pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
                      << std::setw(13) << norm << std::setw(12) << block_norms[0] << std::setw(12) << block_norms[1]
                      << std::defaultfloat << std::setw(8) << n_active << std::setw(9) << n_changed;
