@@ -85,11 +85,12 @@ namespace multigrid
     RCP<TpetraMatrix> spai(const TpetraMatrix& A, const InverseApproximationOptions& options)
     {
       const RCP<TpetraMatrix> At = transpose(A);
-      RCP<TpetraMatrix>       pattern = At;
-      if (options.pattern_power == 2)
+      RCP<TpetraMatrix>       pattern = At; // the pattern of (A^T)^k = (A^k)^T
+      for (int k = 1; k < options.pattern_power; ++k)
         {
-          pattern = rcp(new TpetraMatrix(At->getRowMap(), 0));
-          Tpetra::MatrixMatrix::Multiply(*At, false, *At, false, *pattern);
+          auto product = rcp(new TpetraMatrix(At->getRowMap(), 0));
+          Tpetra::MatrixMatrix::Multiply(*pattern, false, *At, false, *product);
+          pattern = product;
         }
       // The rows of A^T that any local pattern row needs: the pattern's column map.
       const RCP<TpetraMatrix> columns = import_rows(*At, pattern->getColMap());
@@ -163,8 +164,8 @@ namespace multigrid
       return diagonal_inverse(A, options.type == "lumping");
     if (options.type == "spai")
       {
-        if (options.pattern_power != 1 && options.pattern_power != 2)
-          throw InputError("inverse approximation 'spai': pattern power must be 1 (A) or 2 (A^2), got " +
+        if (options.pattern_power < 1 || options.pattern_power > 4)
+          throw InputError("inverse approximation 'spai': pattern power must be 1 to 4 (pattern of A^k), got " +
                            std::to_string(options.pattern_power));
         return spai(A, options);
       }

@@ -11,8 +11,8 @@
 // J_k = the pattern of column k (the rows of P in column k), I_k = the rows of A that have a
 // nonzero in one of the columns J_k (all other rows of A(:, J_k) vanish). Columns of A are rows of
 // A^T, so the algorithm runs row-wise on A^T (rows of A^T in J_k imported from their owners) and
-// produces Â^T row by row; Â is its transpose. P is the pattern of A (power 1) or of A^2 (power
-// 2), of A^T's rows, with entries dropped where |p_kj| < drop_tolerance * max_j |p_kj| (the
+// produces Â^T row by row; Â is its transpose. P is the pattern of A^k (k = pattern power,
+// 1 to 4), of A^T's rows, with entries dropped where |p_kj| < drop_tolerance * max_j |p_kj| (the
 // diagonal is always kept). For symmetric A the pattern is symmetric, and Â is nonsymmetric in
 // general; a larger pattern never increases ||A Â - I||_F (the minimization space grows).
 #pragma once
@@ -32,12 +32,12 @@ namespace multigrid
   struct InverseApproximationOptions
   {
     std::string type           = "spai"; ///< diagonal | lumping | spai
-    int         pattern_power  = 1;      ///< spai: pattern of A (1) or of A^2 (2)
+    int         pattern_power  = 1;      ///< spai: pattern of A^k, k = 1 ... 4
     double      drop_tolerance = 0.0;    ///< spai: relative to the largest entry of the pattern row
   };
 
   /// Â for A (square, fill-complete, row map = range map). Throws InputError for an unknown type,
-  /// a pattern power other than 1 or 2, a negative drop tolerance, or a zero diagonal (diagonal /
+  /// a pattern power outside 1 ... 4, a negative drop tolerance, or a zero diagonal (diagonal /
   /// lumping).
   Teuchos::RCP<TpetraMatrix> approximate_inverse(const TpetraMatrix& A, const InverseApproximationOptions& options);
   /// The same on an Xpetra matrix (Tpetra underneath).
