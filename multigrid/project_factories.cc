@@ -1,6 +1,7 @@
 #include "project_factories.h"
 
 #include "spai_factories.h"
+#include "spai_simple_smoother.h"
 #include "superlu_direct.h"
 
 #include <MueLu_Aggregates.hpp>
@@ -294,6 +295,8 @@ namespace multigrid
     if (name == "SuperLUDirectSolver")
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
+    if (name == "SpaiSimpleSmoother")
+      return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (auto spai = build_spai_factory(name, list, factories); !spai.is_null())
       return spai;
     return Base::BuildFactory(param, factories, managers);

@@ -6,6 +6,7 @@ maximum GMRES iterations per Newton step, setup + solve seconds.
 
 Presets (the names of multigrid/presets; VARIANT:preset:override;override... adds a variant):
   schur-sa-amg(spai)      the seeds' Schur-complement-based SA-AMG with SPAI pieces
+  schur-muelu-simple      the same with MueLu's SIMPLE (diag(K_BB)^-1 in the final update)
   schur-diagonal          the same hierarchy with S = K_SS - K_SB diag(K_BB)^-1 K_BS
   block-diagonal-sa-amg   the same hierarchy with block Jacobi smoothing (SGS per block)
   cheapsimple(sa-amg)     CheapSIMPLE with SA-AMG on the beam block, diagonal Schur approximation
@@ -23,6 +24,7 @@ import subprocess
 COARSE = "template parameters/COARSE_MAX_SIZE=500"
 PRESETS = {
     "schur-sa-amg(spai)": ("schur-sa-amg(spai)", [COARSE]),
+    "schur-muelu-simple": ("schur-sa-amg(spai)", [COARSE, "template parameters/LEVEL_SMOOTHER=SIMPLE"]),
     "schur-diagonal": ("schur-sa-amg(spai)", [COARSE, "template parameters/SCHUR_AINV=BeamDiagonalInverse"]),
     "block-diagonal-sa-amg": ("block-diagonal-sa-amg", [COARSE]),
     "cheapsimple(sa-amg)": ("cheapsimple(sa-amg)", ["primal solver/coarse: max size=500"]),

@@ -1,0 +1,131 @@
+#include "spai_simple_smoother.h"
+
+#include <MueLu_FactoryManagerBase.hpp>
+#include <MueLu_HierarchyUtils.hpp>
+#include <MueLu_Level.hpp>
+#include <MueLu_Monitor.hpp>
+
+#include <Xpetra_BlockedCrsMatrix.hpp>
+#include <Xpetra_BlockedMultiVector.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
+
+namespace multigrid
+{
+  using FactoryPointer = RCP<const MueLu::FactoryBase>;
+  using SubSmoother    = MueLu::SmootherBase<SC, LO, GO, NO>;
+  using BlockedVectors = Xpetra::BlockedMultiVector<SC, LO, GO, NO>;
+
+  RCP<const Teuchos::ParameterList> SpaiSimpleSmoother::GetValidParameterList() const
+  {
+    auto list = Teuchos::rcp(new Teuchos::ParameterList());
+    list->set<FactoryPointer>("A", Teuchos::null, "Generating factory of the 2 x 2 blocked matrix");
+    list->set<FactoryPointer>("Ainv", Teuchos::null, "InverseApproximationFactory of the A00 block");
+    list->set<int>("Sweeps", 1, "Number of SIMPLE sweeps");
+    list->set<double>("Damping factor", 1.0, "Damping of the Schur complement correction");
+    return list;
+  }
+
+  void SpaiSimpleSmoother::AddFactoryManager(RCP<const MueLu::FactoryManagerBase> manager, int pos)
+  {
+    if (pos < 0 || pos > 1)
+      throw InputError("SpaiSimpleSmoother: block" + std::to_string(pos + 1) + ": expected block1 and block2 only");
+    if (managers_.size() <= static_cast<std::size_t>(pos))
+      managers_.resize(pos + 1);
+    managers_[pos] = manager;
+  }
+
+  void SpaiSimpleSmoother::DeclareInput(MueLu::Level& level) const
+  {
+    if (managers_.size() != 2 || managers_[0].is_null() || managers_[1].is_null())
+      throw InputError("SpaiSimpleSmoother: expected two blocks (block1: predictor on A00, block2: corrector on the "
+                       "Schur complement)");
+    Input(level, "A");
+    Input(level, "Ainv");
+    for (const auto& manager : managers_)
+      {
+        MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
+        level.DeclareInput("PreSmoother", manager->GetFactory("Smoother").get());
+      }
+  }
+
+  void SpaiSimpleSmoother::Setup(MueLu::Level& level)
+  {
+    MueLu::FactoryMonitor monitor(*this, "SIMPLE with SPAI update", level);
+    A_      = Get<RCP<::multigrid::Matrix>>(level, "A");
+    auto bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A_);
+    if (bA.is_null() || bA->Rows() != 2 || bA->Cols() != 2)
+      throw InputError("SpaiSimpleSmoother: expected a 2 x 2 blocked matrix");
+    range_   = bA->getRangeMapExtractor();
+    domain_  = bA->getDomainMapExtractor();
+    A01_     = bA->getMatrix(0, 1);
+    A10_     = bA->getMatrix(1, 0);
+    inverse_ = Get<RCP<::multigrid::Matrix>>(level, "Ainv");
+    auto sub_smoother = [&](const RCP<const MueLu::FactoryManagerBase>& manager) {
+      MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
+      return level.Get<RCP<SubSmoother>>("PreSmoother", manager->GetFactory("Smoother").get());
+    };
+    predictor_ = sub_smoother(managers_[0]);
+    corrector_ = sub_smoother(managers_[1]);
+    IsSetup(true);
+  }
+
+  void SpaiSimpleSmoother::Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B, bool initial_guess_is_zero) const
+  {
+    const auto&  list   = GetParameterList();
+    const int    sweeps = list.get<int>("Sweeps");
+    const double omega  = list.get<double>("Damping factor");
+    auto         bA     = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A_);
+    const bool   thyra  = range_->getThyraMode();
+    const auto   n      = B.getNumVectors();
+
+    // Blocked views: the hierarchy hands over blocked vectors on coarse levels, merged ones on
+    // the finest.
+    RCP<BlockedVectors> bX = Teuchos::rcp_dynamic_cast<BlockedVectors>(Teuchos::rcpFromRef(X));
+    const bool         merged_X = bX.is_null();
+    if (merged_X)
+      bX = Teuchos::rcp(new BlockedVectors(bA->getBlockedDomainMap(), Teuchos::rcpFromRef(X).getConst()));
+    RCP<const BlockedVectors> bB = Teuchos::rcp_dynamic_cast<const BlockedVectors>(Teuchos::rcpFromRef(B));
+    if (bB.is_null())
+      bB = Teuchos::rcp(new BlockedVectors(bA->getBlockedRangeMap(), Teuchos::rcpFromRef(B)));
+
+    auto residual = Teuchos::rcp(new BlockedVectors(bA->getBlockedRangeMap(), n));
+    auto dX       = Teuchos::rcp(new BlockedVectors(bA->getBlockedDomainMap(), n));
+    auto r1 = residual->getMultiVector(0, thyra), r2 = residual->getMultiVector(1, thyra);
+    auto dx1 = dX->getMultiVector(0, thyra), dx2 = dX->getMultiVector(1, thyra);
+    auto schur_rhs = range_->getVector(1, n, thyra);
+    auto coupling  = range_->getVector(0, n, thyra);
+    auto update    = domain_->getVector(0, n, thyra);
+    for (int sweep = 0; sweep < sweeps; ++sweep)
+      {
+        // 1. r = b - A x
+        residual->update(1.0, *bB, 0.0);
+        if (!initial_guess_is_zero || sweep > 0)
+          A_->apply(*bX, *residual, Teuchos::NO_TRANS, -1.0, 1.0);
+        // 2. predictor on A00
+        dX->putScalar(0.0);
+        predictor_->Apply(*dx1, *r1);
+        // 3.-4. corrector on S with r2 - A10 dx1
+        A10_->apply(*dx1, *schur_rhs);
+        schur_rhs->update(1.0, *r2, -1.0);
+        corrector_->Apply(*dx2, *schur_rhs);
+        dx2->scale(omega);
+        // 5. dx1 -= Â A01 dx2, then x += dx
+        A01_->apply(*dx2, *coupling);
+        inverse_->apply(*coupling, *update);
+        dx1->update(-1.0, *update, 1.0);
+        bX->update(1.0, *dX, 1.0);
+      }
+    if (merged_X)
+      X.update(1.0, *bX->Merge(), 0.0);
+  }
+
+  RCP<MueLu::SmootherPrototype<double, int, long long, ::multigrid::NO>> SpaiSimpleSmoother::Copy() const
+  {
+    return Teuchos::rcp(new SpaiSimpleSmoother(*this));
+  }
+
+  size_t SpaiSimpleSmoother::getNodeSmootherComplexity() const
+  {
+    return inverse_.is_null() ? 0 : static_cast<size_t>(inverse_->getNodeNumEntries());
+  }
+} // namespace multigrid
