@@ -24,6 +24,8 @@ import os
 import subprocess
 import sys
 
+from json_output import write_json_atomically
+
 COARSE = "template parameters/COARSE_MAX_SIZE=500"
 PRESETS = {
     "schur-sa-amg(spai)": ("schur-sa-amg(spai)", [COARSE]),
@@ -83,10 +85,7 @@ def main():
             print(f"{name:22} {level:2d} {r['dofs'] or 0:7d} {r['newton']:6d} {avg} {r['max'] or 0:5d} "
                   f"{r['setup']:8.2f} {r['solve']:8.2f}  {status}", flush=True)
     if args.json:
-        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
-        with open(args.json + ".tmp", "w") as f:
-            json.dump(results, f, indent=1)
-        os.replace(args.json + ".tmp", args.json)
+        write_json_atomically(args.json, results)
     # The baselines are expected to fail; the seeds' preset and SuperLU must converge.
     required = [r for r in results if r["preset"] in ("schur-sa-amg(spai)", "direct(superlu)")]
     return 0 if all(r["converged"] for r in required) else 1

@@ -15,6 +15,8 @@ import subprocess
 import sys
 import time
 
+from json_output import write_json_atomically
+
 PRESETS = ["fully-coupled-sa-amg(simple)", "emin(cheapsimple)", "sa-amg(cheapsimple)", "pa-amg(cheapsimple)", "sa-amg(braess-sarazin)",
            "cheapsimple(sa-amg)", "cheapsimplec(sgs)", "direct(superlu)"]
 
@@ -73,11 +75,7 @@ def main():
             print(f"{r['level']:>5} {str(r['dofs']):>8} {preset:<24} {r['newton_steps']:>6} "
                   f"{str(r['gmres_average']):>9} {str(r['gmres_max']):>5} {r['setup_seconds']:>8} "
                   f"{r['solve_seconds']:>8} {r['exit']:>4}", flush=True)
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    tmp = args.out + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump({"ranks": args.ranks, "results": results}, f, indent=1)
-    os.replace(tmp, args.out)
+    write_json_atomically(args.out, {"ranks": args.ranks, "results": results})
     return 0 if all(r["exit"] == 0 for r in results) else 1
 
 

@@ -19,6 +19,8 @@ import subprocess
 import sys
 import tempfile
 
+from json_output import write_json_atomically
+
 PRESETS = ["pa-amg(cheapsimple)", "sa-amg(cheapsimple)", "emin(cheapsimple)",
            "sa-amg(braess-sarazin)", "sa-amg(uzawa)", "fully-coupled-sa-amg(simple)",
            "cheapsimple(pa-amg)", "cheapsimple(sa-amg)", "cheapsimplec(sgs)", "direct(superlu)"]
@@ -78,11 +80,7 @@ def main():
         print(f"{preset:30s}{cells} | {growth:5.2f}{flag}")
     print("! = not converged within 1000 iterations (reported, not an error of the benchmark)")
     if args.out:
-        os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
-        tmp = args.out + ".tmp"
-        with open(tmp, "w") as f:
-            json.dump(results, f, indent=1)
-        os.replace(tmp, args.out)
+        write_json_atomically(args.out, results)
     return 0
 
 

@@ -18,6 +18,8 @@ import os
 import subprocess
 import sys
 
+from json_output import write_json_atomically
+
 END_TIME = 0.04
 
 
@@ -79,10 +81,7 @@ def main():
               f"{r['max_increase']:11.2e} {r['max_decrease']:11.2e} {r['final_deviation']:12.3e} "
               f"{r['newton_steps']:7d} {r['max_active']:7d}", flush=True)
     if args.json:
-        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
-        with open(args.json + ".tmp", "w") as f:
-            json.dump(results, f, indent=1)
-        os.replace(args.json + ".tmp", args.json)
+        write_json_atomically(args.json, results)
     if args.check is None:
         return
     failures = [f"rho {r['rho']}, {r['steps']} steps: {r['failed']}" for r in results if "failed" in r]
