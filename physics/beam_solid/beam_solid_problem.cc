@@ -256,6 +256,7 @@ namespace physics::beam_solid
           beam_gids.push_back(6 * static_cast<GO>(n) + k);
       for (const auto i : owned_)
         solid_gids.push_back(n_beam + static_cast<GO>(i));
+      // Columns of constrained solid DOFs are dropped: their increments are zero.
       auto add = [&](GO g, std::map<GO, double> entries, double residual) {
         for (const auto& piece : {&beam_rows, &coupling_matrix_})
           if (const auto it = piece->find(g); it != piece->end())
@@ -360,8 +361,8 @@ namespace physics::beam_solid
               Timer        assembly_timer;
               auto         system           = assemble(load_factor);
               const double assembly_seconds = assembly_timer.wall_time();
-              const auto   norms  = system.block_norms(*system.rhs());
-              const double norm   = std::hypot(norms[0], norms[1]);
+              const auto   norms            = system.block_norms(*system.rhs());
+              const double norm             = std::hypot(norms[0], norms[1]);
               if (it == 0)
                 r0 = norm;
               summary.residuals.back().push_back(norm);
