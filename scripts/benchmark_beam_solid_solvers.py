@@ -2,9 +2,10 @@
 """Solver comparison on the beam/solid family (issue 4, item 4): apps/beam_solid_block.prm at
 refinement r (solid cells 8r x 4r x 4r, 2r x 2r inclined fibres of 8r elements), the same Newton
 steps for every preconditioner, GMRES to 1e-8. Prints per preset and size: Newton steps, average /
-maximum GMRES iterations per Newton step, setup + solve seconds.
+maximum GMRES iterations per Newton step, setup + solve seconds, the preconditioner's operator
+complexity (largest over the Newton steps) and the peak resident memory of the largest rank (MB).
 
-Presets (the names of multigrid/presets; VARIANT:preset:override;override... adds a variant):
+Presets and variants (a preset of multigrid/presets with overrides):
   schur-sa-amg(spai)      the seeds' Schur-complement-based SA-AMG with SPAI pieces
   schur-muelu-simple      the same with MueLu's SIMPLE (diag(K_BB)^-1 in the final update)
   schur-diagonal          the same hierarchy with S = K_SS - K_SB diag(K_BB)^-1 K_BS
@@ -59,7 +60,9 @@ def run(build, ranks, level, name, out_root):
             "newton": len(solves), "converged": proc.returncode == 0,
             "avg": sum(its) / len(its) if its else None, "max": max(its) if its else None,
             "linear_converged": all(l["linear_converged"] for l in solves),
-            "setup": sum(l["setup_seconds"] for l in solves), "solve": sum(l["solve_seconds"] for l in solves)}
+            "setup": sum(l["setup_seconds"] for l in solves), "solve": sum(l["solve_seconds"] for l in solves),
+            "operator_complexity": max((l.get("operator_complexity", 1.0) for l in solves), default=None),
+            "peak_memory_mb": max((l.get("peak_memory_mb", 0.0) for l in solves), default=None)}
 
 
 def main():
@@ -73,7 +76,7 @@ def main():
     args = ap.parse_args()
     results = []
     print(f"{'preset':22} {'r':>2} {'DOFs':>7} {'Newton':>6} {'GMRES avg':>9} {'max':>5} {'setup s':>8} "
-          f"{'solve s':>8}  status")
+          f"{'solve s':>8} {'op.cx':>5} {'peak MB':>7}  status")
     for level in args.levels:
         for name in args.presets:
             r = run(args.build, args.ranks, level, name, args.out)
@@ -83,7 +86,8 @@ def main():
                 status += ", some GMRES solves hit the limit"
             avg = f"{r['avg']:9.1f}" if r["avg"] is not None else f"{'-':>9}"
             print(f"{name:22} {level:2d} {r['dofs'] or 0:7d} {r['newton']:6d} {avg} {r['max'] or 0:5d} "
-                  f"{r['setup']:8.2f} {r['solve']:8.2f}  {status}", flush=True)
+                  f"{r['setup']:8.2f} {r['solve']:8.2f} {r['operator_complexity'] or 0:5.2f} "
+                  f"{r['peak_memory_mb'] or 0:7.0f}  {status}", flush=True)
     if args.json:
         write_json_atomically(args.json, results)
     # The baselines are expected to fail; the seeds' preset and SuperLU must converge.

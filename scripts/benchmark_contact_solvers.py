@@ -46,6 +46,8 @@ def run(build, level, preset, ranks, out_dir):
         "gmres_all_converged": all(r["linear_converged"] for r in solves),
         "setup_seconds": round(sum(r["setup_seconds"] for r in solves), 2),
         "solve_seconds": round(sum(r["solve_seconds"] for r in solves), 2),
+        "operator_complexity": round(max(r.get("operator_complexity", 1.0) for r in solves), 2) if solves else None,
+        "peak_memory_mb": round(max(r.get("peak_memory_mb", 0.0) for r in solves)) if solves else None,
     }
 
 
@@ -67,14 +69,15 @@ def main():
     out_dir = os.path.join(os.path.dirname(os.path.abspath(args.out)), "benchmark_contact_runs")
     results = []
     print(f"{'level':>5} {'DOFs':>8} {'preset':<24} {'Newton':>6} {'GMRES avg':>9} {'max':>5} {'setup s':>8} "
-          f"{'solve s':>8} {'exit':>4}")
+          f"{'solve s':>8} {'op.cx':>5} {'peak MB':>7} {'exit':>4}")
     for level in args.levels:
         for preset in args.presets:
             r = run(args.build, level, preset, args.ranks, out_dir)
             results.append(r)
             print(f"{r['level']:>5} {str(r['dofs']):>8} {preset:<24} {r['newton_steps']:>6} "
                   f"{str(r['gmres_average']):>9} {str(r['gmres_max']):>5} {r['setup_seconds']:>8} "
-                  f"{r['solve_seconds']:>8} {r['exit']:>4}", flush=True)
+                  f"{r['solve_seconds']:>8} {str(r['operator_complexity']):>5} {str(r['peak_memory_mb']):>7} "
+                  f"{r['exit']:>4}", flush=True)
     write_json_atomically(args.out, {"ranks": args.ranks, "results": results})
     return 0 if all(r["exit"] == 0 for r in results) else 1
 

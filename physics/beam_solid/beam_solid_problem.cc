@@ -389,7 +389,7 @@ namespace physics::beam_solid
               summary.linear_iterations.push_back(report.iterations);
               summary.setup_seconds += report.preconditioner.setup_seconds;
               summary.solve_seconds += report.solve_seconds;
-              report_linear_solve(report, line, pcout_);
+              report_linear_solve(report, line, pcout_, comm_);
               log_.write(line);
               // A preconditioner that does not reduce the residual at all gives no usable Newton
               // direction: stop here instead of applying it.

@@ -2,6 +2,9 @@
 
 #include "common/parameter_checks.h"
 
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
 #include <iomanip>
 #include <sstream>
 
@@ -64,12 +67,16 @@ namespace physics
   }
 
   void report_linear_solve(const multigrid::SolveReport& report, JsonLinesLog::Line& line,
-                           dealii::ConditionalOStream& console)
+                           dealii::ConditionalOStream& console, MPI_Comm comm)
   {
+    dealii::Utilities::System::MemoryStats memory;
+    dealii::Utilities::System::get_memory_stats(memory); // VmHWM: peak resident set, kB
+    const double peak_mb = dealii::Utilities::MPI::max(memory.VmHWM / 1024.0, comm);
     line.add("linear_iterations", report.iterations).add("linear_converged", report.converged)
         .add("linear_relative_residual", report.relative_residual)
         .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
-        .add("global_size", static_cast<long long>(report.global_size));
+        .add("global_size", static_cast<long long>(report.global_size))
+        .add("operator_complexity", report.preconditioner.operator_complexity).add("peak_memory_mb", peak_mb);
     console << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
             << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
             << (report.converged ? "" : "  (GMRES not converged)") << "\n";

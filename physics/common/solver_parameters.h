@@ -37,7 +37,9 @@ namespace physics
   };
 
   /// A Newton step's linear solve in the run log (iterations, convergence, true relative
-  /// residual, setup/solve seconds, size) and as the console columns "GMRES setup[s] solve[s]".
+  /// residual, setup/solve seconds, size, the preconditioner's operator complexity, and the
+  /// largest peak resident memory of any rank so far, MB) and as the console columns
+  /// "GMRES setup[s] solve[s]". Collective over `comm`.
   void report_linear_solve(const multigrid::SolveReport& report, JsonLinesLog::Line& line,
-                           dealii::ConditionalOStream& console);
+                           dealii::ConditionalOStream& console, MPI_Comm comm);
 } // namespace physics

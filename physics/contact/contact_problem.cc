@@ -487,7 +487,7 @@ namespace physics::contact
               summary.linear_iterations.push_back(report.iterations);
               summary.setup_seconds += report.preconditioner.setup_seconds;
               summary.linear_seconds += report.solve_seconds;
-              report_linear_solve(report, line, pcout_);
+              report_linear_solve(report, line, pcout_, comm_);
               log_.write(line);
 
               // Update u and lambda from the solution (assembly numbering).
