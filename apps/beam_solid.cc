@@ -6,11 +6,11 @@
 //   beam_solid --print-parameters      (all parameters with their documentation)
 #include "beam_solid/beam_solid_problem.h"
 #include "common/app_parameters.h"
+#include "trilinos_scope.h"
 #include "types.h"
 
 #include <deal.II/base/mpi.h>
 
-#include <Tpetra_Core.hpp>
 
 #include <iostream>
 
@@ -34,9 +34,7 @@ Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 int main(int argc, char** argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  // Kokkos (started by Tpetra) would answer --help with its own page: it sees the program name only.
-  int                                      kokkos_argc = 1;
-  Tpetra::ScopeGuard                       tpetra(&kokkos_argc, &argv);
+  multigrid::TrilinosScope                 tpetra(argv);
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::beam_solid::BeamSolidParameters::declare(prm);

@@ -5,12 +5,12 @@
 //   contact_blocks --print-parameters      (all parameters with their documentation)
 #include "common/app_parameters.h"
 #include "contact/contact_problem.h"
+#include "trilinos_scope.h"
 #include "types.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
-#include <Tpetra_Core.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -38,9 +38,7 @@ Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 int main(int argc, char** argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  // Kokkos (started by Tpetra) would answer --help with its own page: it sees the program name only.
-  int                                      kokkos_argc = 1;
-  Tpetra::ScopeGuard                       tpetra(&kokkos_argc, &argv);
+  multigrid::TrilinosScope                 tpetra(argv);
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::contact::ContactParameters::declare(prm);

@@ -17,6 +17,7 @@
 #include "krylov_solver.h"
 #include "model_problems.h"
 #include "presets.h"
+#include "trilinos_scope.h"
 
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_Core.hpp>
@@ -145,9 +146,7 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
 
 int main(int argc, char** argv)
 {
-  // Kokkos (started by Tpetra) would answer --help with its own page: it sees the program name only.
-  int                kokkos_argc = 1;
-  Tpetra::ScopeGuard mpi(&kokkos_argc, &argv);
+  multigrid::TrilinosScope mpi(argv);
   auto               comm = Tpetra::getDefaultComm();
   const bool         root = comm->getRank() == 0;
   try
