@@ -147,8 +147,8 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
 int main(int argc, char** argv)
 {
   multigrid::TrilinosScope mpi(argv);
-  auto               comm = Tpetra::getDefaultComm();
-  const bool         root = comm->getRank() == 0;
+  auto                     comm = Tpetra::getDefaultComm();
+  const bool               root = comm->getRank() == 0;
   try
     {
       const Options o = parse(argc, argv);
