@@ -1,76 +1,83 @@
 #include "cheap_simple.h"
 
 #include "hierarchy_utils.h"
+#include "inverse_approximation.h"
 
 #include <MueLu_Hierarchy.hpp>
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_MapExtractor.hpp>
-#include <Xpetra_MatrixFactory.hpp>
 #include <Xpetra_MatrixMatrix.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
-#include <Xpetra_VectorFactory.hpp>
-
-#include <cmath>
 
 namespace multigrid
 {
+  namespace
+  {
+    /// A string parameter with its allowed values, or its default when absent.
+    std::string choice(const Teuchos::ParameterList& p, const std::string& name, const std::string& fallback,
+                       const std::vector<std::string>& allowed)
+    {
+      const std::string value = p.isParameter(name) ? p.get<std::string>(name) : fallback;
+      if (std::find(allowed.begin(), allowed.end(), value) == allowed.end())
+        {
+          std::string list;
+          for (const auto& a : allowed)
+            list += (list.empty() ? "" : ", ") + a;
+          throw InputError("CheapSIMPLE: '" + name + "' is '" + value + "', expected one of " + list);
+        }
+      return value;
+    }
+  } // namespace
+
   CheapSimpleOperator::CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& p)
       : system_(system)
   {
     if (system.n_blocks() != 2)
       throw InputError("CheapSIMPLE needs a 2 x 2 block system, got " + std::to_string(system.n_blocks()) +
                        " blocks");
-    sweeps_            = p.get<int>("sweeps");
-    damping_           = p.get<double>("damping");
-    const bool simplec = p.get<bool>("simplec");
+    sweeps_  = p.get<int>("sweeps");
+    damping_ = p.get<double>("damping");
     if (sweeps_ < 1 || !(damping_ > 0.0))
       throw InputError("CheapSIMPLE: sweeps must be >= 1 and damping > 0 (got " + std::to_string(sweeps_) +
                        ", " + std::to_string(damping_) + ")");
+    InverseApproximationOptions inverse;
+    inverse.type = choice(p, "inverse approximation", "diagonal", {"diagonal", "lumping", "spai"});
+    if (p.isParameter("spai: pattern power"))
+      inverse.pattern_power = p.get<int>("spai: pattern power");
+    if (p.isParameter("spai: drop tolerance"))
+      inverse.drop_tolerance = p.get<double>("spai: drop tolerance");
+    const std::string predictor      = choice(p, "predictor", "amg", {"amg", "approximate inverse"});
+    const std::string schur_nullspace = choice(p, "schur nullspace", "none", {"none", "block"});
 
     const auto blocked = system.blocked_matrix();
     A_                 = blocked->getMatrix(0, 0);
     B1t_               = blocked->getMatrix(0, 1);
     B2_                = blocked->getMatrix(1, 0);
     RCP<Matrix> C      = blocked->getMatrix(1, 1);
+    A_inverse_         = approximate_inverse(*A_, inverse);
 
-    // Â^-1: inverse diagonal (SIMPLE) or inverse absolute row sums (SIMPLEC) of A.
-    auto inv = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A_->getRowMap(), true);
-    {
-      auto data = inv->getDataNonConst(0);
-      for (std::size_t i = 0; i < A_->getNodeNumRows(); ++i)
-        {
-          Teuchos::ArrayView<const LO> cols;
-          Teuchos::ArrayView<const SC> vals;
-          A_->getLocalRowView(i, cols, vals);
-          const GO row = A_->getRowMap()->getGlobalElement(i);
-          double   d   = 0.0;
-          for (LO k = 0; k < cols.size(); ++k)
-            {
-              if (simplec)
-                d += std::abs(vals[k]);
-              else if (A_->getColMap()->getGlobalElement(cols[k]) == row)
-                d = vals[k];
-            }
-          data[i] = (d != 0.0) ? 1.0 / d : 1.0;
-        }
-    }
-    inv_diag_ = inv;
-
-    // S = C - B2 Â^-1 B1^T, formed explicitly (sparse: Â is diagonal).
-    auto        out  = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
-    RCP<Matrix> DB1t = Xpetra::MatrixFactory<SC, LO, GO, NO>::BuildCopy(B1t_);
-    DB1t->leftScale(*inv);
-    RCP<Matrix> product = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*B2_, false, *DB1t, false, *out);
+    // S = C - B2 Â B1^T, formed explicitly (sparse: Â is diagonal or a SPAI on a fixed pattern).
+    auto        out      = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
+    RCP<Matrix> AinvB1t  = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*A_inverse_, false, *B1t_, false, *out);
+    RCP<Matrix> product  = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*B2_, false, *AinvB1t, false, *out);
     RCP<Matrix> S;
     Xpetra::MatrixMatrix<SC, LO, GO, NO>::TwoMatrixAdd(*C, false, 1.0, *product, false, -1.0, S, *out);
     S->fillComplete(C->getDomainMap(), C->getRangeMap());
     S_ = S;
 
-    const auto& primal = system.block(0);
-    primal_ = build_single_field_hierarchy(A_, primal.dofs_per_node, system.nullspace_or_translations(0),
-                                           p.sublist("primal solver"));
-    schur_  = build_single_field_hierarchy(S_, 1, Teuchos::null, p.sublist("schur solver"));
+    if (predictor == "amg")
+      {
+        primal_ = build_single_field_hierarchy(A_, system.block(0).dofs_per_node,
+                                               system.nullspace_or_translations(0), p.sublist("primal solver"));
+      }
+    // S of a contact system lives on the multipliers (no near-nullspace); S of beam/solid on the
+    // solid, whose rigid-body modes make the inner SA-AMG elasticity-aware.
+    if (schur_nullspace == "block")
+      schur_ = build_single_field_hierarchy(S_, system.block(1).dofs_per_node, system.nullspace_or_translations(1),
+                                            p.sublist("schur solver"));
+    else
+      schur_ = build_single_field_hierarchy(S_, 1, Teuchos::null, p.sublist("schur solver"));
   }
 
   void CheapSimpleOperator::apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,
@@ -87,6 +94,7 @@ namespace multigrid
     auto        dx1  = MVF::Build(A_->getRangeMap(), n);
     auto        dx2  = MVF::Build(S_->getRangeMap(), n);
     auto        tmp1 = MVF::Build(A_->getRangeMap(), n);
+    auto        tmp2 = MVF::Build(A_->getRangeMap(), n);
     auto        rhs2 = MVF::Build(S_->getRangeMap(), n);
 
     for (int sweep = 0; sweep < sweeps_; ++sweep)
@@ -101,18 +109,24 @@ namespace multigrid
           }
         auto r1 = ext.ExtractVector(r, 0);
         auto r2 = ext.ExtractVector(r, 1);
-        // 2. displacement prediction with the inner solver
-        dx1->putScalar(0.0);
-        primal_->Iterate(*r1, *dx1, 1, true);
+        // 2. prediction: inner AMG, or one sweep of x <- x + Â (b - A x) from zero
+        if (primal_.is_null())
+          A_inverse_->apply(*r1, *dx1);
+        else
+          {
+            dx1->putScalar(0.0);
+            primal_->Iterate(*r1, *dx1, 1, true);
+          }
         // 3. approximate Schur complement equation
         B2_->apply(*dx1, *rhs2);
         rhs2->update(1.0, *r2, -1.0);
         dx2->putScalar(0.0);
         schur_->Iterate(*rhs2, *dx2, 1, true);
-        // 4. damped multiplier update and its consequence for the displacements
+        // 4. damped update of the second block and its consequence for the first
         dx2->scale(damping_);
         B1t_->apply(*dx2, *tmp1);
-        dx1->elementWiseMultiply(-1.0 / damping_, *inv_diag_->getVector(0), *tmp1, 1.0);
+        A_inverse_->apply(*tmp1, *tmp2);
+        dx1->update(-1.0 / damping_, *tmp2, 1.0);
         // 5. increment
         auto xx1 = ext.ExtractVector(x, 0);
         auto xx2 = ext.ExtractVector(x, 1);
@@ -133,11 +147,23 @@ namespace multigrid
 
   std::vector<std::pair<long long, long long>> CheapSimpleOperator::primal_levels() const
   {
+    if (primal_.is_null())
+      return {};
     return level_sizes(*primal_);
+  }
+
+  std::vector<std::pair<long long, long long>> CheapSimpleOperator::schur_levels() const
+  {
+    return level_sizes(*schur_);
   }
 
   long long CheapSimpleOperator::schur_nonzeros() const
   {
     return S_->getGlobalNumEntries();
+  }
+
+  long long CheapSimpleOperator::inverse_approximation_nonzeros() const
+  {
+    return A_inverse_->getGlobalNumEntries();
   }
 } // namespace multigrid

@@ -1,15 +1,21 @@
-// CheapSIMPLE(C): the Schur-complement block preconditioner of seed 000 for
+// CheapSIMPLE(C): the Schur-complement block preconditioner (block method outside, multigrid
+// inside) for
 //     [ A   B1^T ] [x1]   [b1]
 //     [ B2  C    ] [x2] = [b2],
-// with Â = diag(A) (SIMPLE) or the absolute row sums of A (SIMPLEC). One sweep, from the current
-// iterate x:
+// with an explicit cheap approximation Â ≈ A^-1. One sweep, from the current iterate x:
 //   1. r = b - K x
-//   2. displacement prediction          A dx1~ = r1                  (inner AMG / relaxation)
-//   3. approximate Schur complement     S dx2~ = r2 - B2 dx1~,  S = C - B2 Â^-1 B1^T  (ILU(0))
-//   4. update                           dx2 = w dx2~,  dx1 = dx1~ - (1/w) Â^-1 B1^T dx2
+//   2. prediction                       dx1~ = P(r1)          (inner AMG on A, or Â r1)
+//   3. approximate Schur complement     S dx2~ = r2 - B2 dx1~,  S = C - B2 Â B1^T  (inner solver)
+//   4. update                           dx2 = w dx2~,  dx1 = dx1~ - (1/w) Â B1^T dx2
 //   5. x <- x + dx
-// "CheapSIMPLE(AMG)" puts the multigrid inside the block method: the contact constraints are seen
-// on the finest level only (the seeds' contrast to saddle-point AMG).
+// Â ("inverse approximation"): diag(A)^-1 (seed 000's CheapSIMPLE), the row-sum lumped inverse
+// (CheapSIMPLEC), or the sparse approximate inverse min ||A Â - I||_F over the pattern of A^k
+// (seed 001's beam block, multigrid/inverse_approximation.h). With the SPAI the predictor may be
+// the SPAI smoother itself (dx1~ = Â r1, one sweep from zero) and S lives on the second block's
+// DOFs (the solid of beam/solid): its inner AMG then gets that block's near-nullspace.
+// With Â = A^-1, exact inner solves and w = 1, one sweep is the exact block LU solve.
+// "CheapSIMPLE(AMG)" puts the multigrid inside the block method: the coupling is seen on the
+// finest level only (the seeds' contrast to saddle-point AMG).
 #pragma once
 
 #include "block_system.h"
@@ -30,8 +36,10 @@ namespace multigrid
   class CheapSimpleOperator : public Xpetra::Operator<SC, LO, GO, NO>
   {
   public:
-    /// `parameters`: sweeps, damping, simplec, sublists "primal solver" and "schur solver"
-    /// (MueLu parameter lists).
+    /// `parameters`: sweeps, damping, "inverse approximation" (diagonal | lumping | spai, with
+    /// "spai: pattern power" and "spai: drop tolerance"), predictor (amg | approximate inverse),
+    /// "schur nullspace" (none | block), sublists "primal solver" (predictor amg) and
+    /// "schur solver" (MueLu parameter lists).
     CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& parameters);
 
     RCP<const ::multigrid::Map> getDomainMap() const override { return system_.full_map(); }
@@ -41,16 +49,20 @@ namespace multigrid
     void                        residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
                                          ::multigrid::MultiVector& R) const override;
 
-    /// Levels of the inner primal AMG (fine first) and of the Schur solver, for the report.
+    /// Levels of the inner primal AMG (fine first); empty with the approximate-inverse predictor.
     std::vector<std::pair<long long, long long>> primal_levels() const;
+    /// Levels of the Schur-complement solver (fine first).
+    std::vector<std::pair<long long, long long>> schur_levels() const;
     long long                                    schur_nonzeros() const;
+    long long                                    inverse_approximation_nonzeros() const;
 
   private:
     const BlockSystem&                    system_;
     int                                   sweeps_  = 1;
     double                                damping_ = 1.0;
     RCP<Matrix>                           A_, B1t_, B2_, S_;
-    RCP<::multigrid::MultiVector>         inv_diag_; ///< 1 / Â on the primal map
-    RCP<MueLu::Hierarchy<SC, LO, GO, NO>> primal_, schur_;
+    RCP<Matrix>                           A_inverse_; ///< Â
+    RCP<MueLu::Hierarchy<SC, LO, GO, NO>> primal_;    ///< null with the approximate-inverse predictor
+    RCP<MueLu::Hierarchy<SC, LO, GO, NO>> schur_;
   };
 } // namespace multigrid

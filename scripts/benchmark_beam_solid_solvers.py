@@ -7,16 +7,22 @@ complexity (largest over the Newton steps) and the peak resident memory of the l
 
 Presets and variants (a preset of multigrid/presets with overrides):
   schur-sa-amg(spai)      the seeds' Schur-complement-based SA-AMG with SPAI pieces
+  spai-simple(schur-sa-amg)  the same SPAI pieces with the multigrid inside the block method:
+                          SIMPLE outside, SA-AMG on the SPAI Schur complement
   schur-muelu-simple      the same with MueLu's SIMPLE (diag(K_BB)^-1 in the final update)
   schur-diagonal          the same hierarchy with S = K_SS - K_SB diag(K_BB)^-1 K_BS
   block-diagonal-sa-amg   the same hierarchy with block Jacobi smoothing (SGS per block)
   cheapsimple(sa-amg)     CheapSIMPLE with SA-AMG on the beam block, diagonal Schur approximation
   direct(superlu)         SuperLU on the whole system
-The multilevel presets use a max coarse size of 500 here (the seed's 6500 would make every size
+The monolithic presets use a max coarse size of 500 here (the seed's 6500 would make every size
 below 18k DOFs a single direct solve).
 
   scripts/benchmark_beam_solid_solvers.py --build build --levels 1 2 3 [--ranks 2] [--json F]
-Exit status 1 if schur-sa-amg(spai) or direct(superlu) does not converge (ctest
+                                          [--max-growth G]
+With --max-growth G, also exit 1 if a preset's average GMRES iterations per Newton step at the
+largest level exceed G times those at the smallest (ctest beam_solid.iterations_flat: levels 2 and 3
+of spai-simple(schur-sa-amg)).
+Exit status 1 if schur-sa-amg(spai), spai-simple(schur-sa-amg) or direct(superlu) does not converge (ctest
 benchmark.beam_solid_solvers runs levels 1 2 3).
 """
 import argparse
@@ -30,6 +36,7 @@ from json_output import write_json_atomically
 COARSE = "template parameters/COARSE_MAX_SIZE=500"
 PRESETS = {
     "schur-sa-amg(spai)": ("schur-sa-amg(spai)", [COARSE]),
+    "spai-simple(schur-sa-amg)": ("spai-simple(schur-sa-amg)", []),
     "schur-muelu-simple": ("schur-sa-amg(spai)", [COARSE, "template parameters/LEVEL_SMOOTHER=SIMPLE"]),
     "schur-diagonal": ("schur-sa-amg(spai)", [COARSE, "template parameters/SCHUR_AINV=BeamDiagonalInverse"]),
     "block-diagonal-sa-amg": ("block-diagonal-sa-amg", [COARSE]),
@@ -73,9 +80,10 @@ def main():
     ap.add_argument("--presets", nargs="+", default=list(PRESETS))
     ap.add_argument("--out", default="output/beam_solid_solvers")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--max-growth", type=float, default=None)
     args = ap.parse_args()
     results = []
-    print(f"{'preset':22} {'r':>2} {'DOFs':>7} {'Newton':>6} {'GMRES avg':>9} {'max':>5} {'setup s':>8} "
+    print(f"{'preset':25} {'r':>2} {'DOFs':>7} {'Newton':>6} {'GMRES avg':>9} {'max':>5} {'setup s':>8} "
           f"{'solve s':>8} {'op.cx':>5} {'peak MB':>7}  status")
     for level in args.levels:
         for name in args.presets:
@@ -85,14 +93,29 @@ def main():
             if r["converged"] and not r["linear_converged"]:
                 status += ", some GMRES solves hit the limit"
             avg = f"{r['avg']:9.1f}" if r["avg"] is not None else f"{'-':>9}"
-            print(f"{name:22} {level:2d} {r['dofs'] or 0:7d} {r['newton']:6d} {avg} {r['max'] or 0:5d} "
+            print(f"{name:25} {level:2d} {r['dofs'] or 0:7d} {r['newton']:6d} {avg} {r['max'] or 0:5d} "
                   f"{r['setup']:8.2f} {r['solve']:8.2f} {r['operator_complexity'] or 0:5.2f} "
                   f"{r['peak_memory_mb'] or 0:7.0f}  {status}", flush=True)
     if args.json:
         write_json_atomically(args.json, results)
-    # The baselines are expected to fail; the seeds' preset and SuperLU must converge.
-    required = [r for r in results if r["preset"] in ("schur-sa-amg(spai)", "direct(superlu)")]
-    return 0 if all(r["converged"] for r in required) else 1
+    # The baselines are expected to fail; the SPAI-based presets and SuperLU must converge.
+    required = [r for r in results
+                if r["preset"] in ("schur-sa-amg(spai)", "spai-simple(schur-sa-amg)", "direct(superlu)")]
+    ok = all(r["converged"] for r in required)
+    if args.max_growth is not None:
+        for name in args.presets:
+            runs = sorted((r for r in results if r["preset"] == name), key=lambda r: r["level"])
+            if len(runs) < 2 or not all(r["converged"] and r["avg"] for r in runs):
+                print(f"{name}: iteration growth not measurable (a run did not converge)")
+                ok = False
+                continue
+            growth = runs[-1]["avg"] / runs[0]["avg"]
+            verdict = "within" if growth <= args.max_growth else "EXCEEDS"
+            print(f"{name}: GMRES per Newton step grows {growth:.2f}x from r = {runs[0]['level']} to "
+                  f"r = {runs[-1]['level']} ({runs[-1]['dofs'] / runs[0]['dofs']:.1f}x DOFs), {verdict} "
+                  f"the bound {args.max_growth}")
+            ok = ok and growth <= args.max_growth
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":
