@@ -10,6 +10,10 @@
 #include <Xpetra_MatrixMatrix.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 namespace multigrid
 {
   namespace
@@ -47,7 +51,7 @@ namespace multigrid
       inverse.pattern_power = p.get<int>("spai: pattern power");
     if (p.isParameter("spai: drop tolerance"))
       inverse.drop_tolerance = p.get<double>("spai: drop tolerance");
-    const std::string predictor      = choice(p, "predictor", "amg", {"amg", "approximate inverse"});
+    const std::string predictor       = choice(p, "predictor", "amg", {"amg", "approximate inverse"});
     const std::string schur_nullspace = choice(p, "schur nullspace", "none", {"none", "block"});
 
     const auto blocked = system.blocked_matrix();
@@ -58,19 +62,17 @@ namespace multigrid
     A_inverse_         = approximate_inverse(*A_, inverse);
 
     // S = C - B2 Â B1^T, formed explicitly (sparse: Â is diagonal or a SPAI on a fixed pattern).
-    auto        out      = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
-    RCP<Matrix> AinvB1t  = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*A_inverse_, false, *B1t_, false, *out);
-    RCP<Matrix> product  = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*B2_, false, *AinvB1t, false, *out);
+    auto        out     = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
+    RCP<Matrix> AinvB1t = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*A_inverse_, false, *B1t_, false, *out);
+    RCP<Matrix> product = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*B2_, false, *AinvB1t, false, *out);
     RCP<Matrix> S;
     Xpetra::MatrixMatrix<SC, LO, GO, NO>::TwoMatrixAdd(*C, false, 1.0, *product, false, -1.0, S, *out);
     S->fillComplete(C->getDomainMap(), C->getRangeMap());
     S_ = S;
 
     if (predictor == "amg")
-      {
-        primal_ = build_single_field_hierarchy(A_, system.block(0).dofs_per_node,
-                                               system.nullspace_or_translations(0), p.sublist("primal solver"));
-      }
+      primal_ = build_single_field_hierarchy(A_, system.block(0).dofs_per_node, system.nullspace_or_translations(0),
+                                             p.sublist("primal solver"));
     // S of a contact system lives on the multipliers (no near-nullspace); S of beam/solid on the
     // solid, whose rigid-body modes make the inner SA-AMG elasticity-aware.
     if (schur_nullspace == "block")
