@@ -8,7 +8,6 @@
 #include <MueLu_Hierarchy.hpp>
 #include <MueLu_Level.hpp>
 #include <MueLu_NoFactory.hpp>
-#include <MueLu_SmootherBase.hpp>
 #include <MueLu_ParameterListInterpreter.hpp>
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
@@ -83,24 +82,6 @@ namespace multigrid
       return replaces_amesos2(list, ranks) ? "SuperLU (project adaptor, in place of Amesos2 on several ranks)"
                                            : string_or(list, "coarse: type", "KLU2");
     }
-
-    /// The project's SuperLU in MueLu's coarse-solver slot of a single-field hierarchy.
-    class SuperLUCoarseSolve : public MueLu::SmootherBase<SC, LO, GO, NO>
-    {
-    public:
-      explicit SuperLUCoarseSolve(const RCP<::multigrid::Matrix>& A)
-          : solver_(A, true)
-      {
-      }
-      void Apply(::multigrid::MultiVector& x, const ::multigrid::MultiVector& rhs, bool) const override
-      {
-        solver_.solve(rhs, x);
-      }
-      size_t getNodeSmootherComplexity() const override { return Teuchos::OrdinalTraits<size_t>::invalid(); }
-
-    private:
-      SuperLUDirect solver_;
-    };
 
     /// Level table and operator complexity (sum of nonzeros over the fine level's).
     void fill_levels(PreconditionerInfo& info, const std::vector<std::pair<long long, long long>>& sizes)
@@ -196,7 +177,7 @@ namespace multigrid
         // takes the coarsest level's place (it is MueLu's coarse solver slot, "PreSmoother").
         auto coarsest = H->GetLevel(H->GetNumLevels() - 1);
         auto Ac       = coarsest->Get<RCP<Matrix>>("A");
-        coarsest->Set("PreSmoother", RCP<MueLu::SmootherBase<SC, LO, GO, NO>>(new SuperLUCoarseSolve(Ac)));
+        coarsest->Set("PreSmoother", superlu_coarse_solver(Ac));
         if (coarsest->IsAvailable("PostSmoother"))
           coarsest->Delete("PostSmoother", MueLu::NoFactory::get());
       }
@@ -238,16 +219,17 @@ namespace multigrid
       {
         auto cs = with_preset_context(preset.name,
                                       [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
-        const bool amg_predictor = !cs->primal_levels().empty();
-        fill_levels(info_, amg_predictor ? cs->primal_levels() : cs->schur_levels());
+        const auto primal_levels = cs->primal_levels();
+        const bool amg_predictor = !primal_levels.empty();
+        fill_levels(info_, amg_predictor ? primal_levels : cs->schur_levels());
         info_.notes.push_back(amg_predictor ? "levels are those of the inner primal solver"
                                             : "levels are those of the Schur-complement solver");
         info_.notes.push_back("Schur complement nonzeros " + std::to_string(cs->schur_nonzeros()));
         info_.notes.push_back("inverse approximation nonzeros " +
                               std::to_string(cs->inverse_approximation_nonzeros()));
-        info_.coarse_solver = amg_predictor
-                                  ? "primal: " + string_or(p.sublist("primal solver"), "coarse: type", "KLU2")
-                                  : "Schur: " + string_or(p.sublist("schur solver"), "coarse: type", "KLU2");
+        const int ranks     = system.comm()->getSize();
+        info_.coarse_solver = amg_predictor ? "primal: " + coarse_solver_name(p.sublist("primal solver"), ranks)
+                                            : "Schur: " + coarse_solver_name(p.sublist("schur solver"), ranks);
         op_                 = cs;
       }
     else if (preset.kind == "amg")

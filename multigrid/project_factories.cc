@@ -177,6 +177,13 @@ namespace multigrid
     class SuperLUSmoother : public MueLu::SmootherPrototype<SC, LO, GO, NO>
     {
     public:
+      SuperLUSmoother() = default;
+      /// Already set up on A (for a hierarchy built elsewhere: superlu_coarse_solver()).
+      explicit SuperLUSmoother(const RCP<::multigrid::Matrix>& A)
+      {
+        factorize(A);
+      }
+
       RCP<const Teuchos::ParameterList> GetValidParameterList() const override
       {
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
@@ -189,12 +196,7 @@ namespace multigrid
       void Setup(MueLu::Level& level) override
       {
         MueLu::FactoryMonitor    monitor(*this, "SuperLU coarse solver", level);
-        RCP<::multigrid::Matrix> A  = this->template Get<RCP<::multigrid::Matrix>>(level, "A");
-        auto                     bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A);
-        // A coarse DOF that P does not reach (an aggregate with fewer DOFs than nullspace vectors)
-        // has an empty row and column; it decouples, so a unit diagonal makes the solve defined.
-        solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge(), true);
-        this->IsSetup(true);
+        factorize(this->template Get<RCP<::multigrid::Matrix>>(level, "A"));
       }
 
       void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
@@ -232,9 +234,23 @@ namespace multigrid
       }
 
     private:
+      void factorize(const RCP<::multigrid::Matrix>& A)
+      {
+        auto bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A);
+        // A coarse DOF that P does not reach (an aggregate with fewer DOFs than nullspace vectors)
+        // has an empty row and column; it decouples, so a unit diagonal makes the solve defined.
+        solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge(), true);
+        this->IsSetup(true);
+      }
+
       std::shared_ptr<SuperLUDirect> solver_;
     };
   } // namespace
+
+  RCP<MueLu::SmootherBase<SC, LO, GO, NO>> superlu_coarse_solver(const RCP<Matrix>& A)
+  {
+    return Teuchos::rcp(new SuperLUSmoother(A));
+  }
 
   RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set)
   {

@@ -16,6 +16,7 @@
 #include "types.h"
 
 #include <MueLu_FactoryFactory_decl.hpp>
+#include <MueLu_SmootherBase.hpp>
 
 #include <map>
 #include <string>
@@ -25,6 +26,10 @@ namespace multigrid
   /// The seeds' "filtered A": A_seg(i,j) = A(i,j) if i and j are both in `set` or both outside,
   /// else 0 (the entry is removed). Column membership is imported from the owners of the columns.
   RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set);
+
+  /// The SuperLUDirectSolver coarse solver, set up on A, for MueLu's coarse-solver slot of a
+  /// hierarchy built from a simple parameter list (where preset XML cannot name it).
+  RCP<MueLu::SmootherBase<SC, LO, GO, NO>> superlu_coarse_solver(const RCP<Matrix>& A);
 
   using FactoryMap        = std::map<std::string, RCP<const MueLu::FactoryBase>>;
   using FactoryManagerMap = std::map<std::string, RCP<MueLu::FactoryManagerBase>>;
