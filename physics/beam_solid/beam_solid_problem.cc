@@ -56,7 +56,7 @@ namespace physics::beam_solid
             add_straight_fibre(beam, Point<3>(0, y, z), Point<3>(p.size[0], y, z + p.fibre_tilt * p.size[2]),
                                p.elements_per_fibre);
           }
-      beam.check_and_set_tangents("Fibres");
+      beam.set_reference_geometry("Fibres");
       return beam;
     }
 
