@@ -29,7 +29,9 @@ namespace physics::beam_solid
 
     Point<3> position(const BeamMesh& beam, std::size_t e, double xi)
     {
-      return beam.reference_position(e, xi); // the Hermite reference centreline
+      const Point<3>& a = beam.nodes[beam.elements[e][0]];
+      const Point<3>& b = beam.nodes[beam.elements[e][1]];
+      return a + (b - a) * (0.5 * (xi + 1)); // straight reference elements
     }
 
     /// The cell containing p (and p's unit coordinates); throws with the beam point's location.
@@ -67,37 +69,23 @@ namespace physics::beam_solid
         }
     }
 
-    /// Segment-based: split [-1, 1] where the centreline leaves a cell, Gauss points on every
-    /// piece. The exit is bracketed by stepping along the element (a curved piece may leave a
-    /// cell and come back; the first exit is the one wanted) and found by bisection on xi.
+    /// Segment-based: split [-1, 1] where the centreline leaves a cell (bisection on xi; hexahedra
+    /// are convex, so a straight piece leaves each cell once), Gauss points on every piece.
     void mortar_points(const BeamMesh& beam, std::size_t e, const GridTools::Cache<3>& cache,
                        const QGauss<1>& gauss, const std::string& source, std::vector<IntegrationPoint>& points)
     {
-      constexpr int     samples = 16; // per element
       const Mapping<3>& mapping = cache.get_mapping();
+      const double      l       = beam.element_length(e);
       double            xi_a    = -1.0;
       for (int piece = 0; xi_a < 1.0 - 1e-12; ++piece)
         {
           if (piece > 10000)
             throw std::runtime_error(source + ": beam element " + std::to_string(e) + " crosses too many cells");
-          const double       start = std::min(xi_a + 1e-8, 1.0);
-          const CellIterator cell  = locate(cache, position(beam, e, start), e, source).first;
-          double             lo = start, hi = 1.0;
-          for (int k = 1; k <= samples; ++k)
+          const CellIterator cell = locate(cache, position(beam, e, std::min(xi_a + 1e-8, 1.0)), e, source).first;
+          double             xi_b = 1.0;
+          if (!inside(mapping, cell, position(beam, e, 1.0)))
             {
-              const double xi = -1.0 + 2.0 * k / samples;
-              if (xi <= lo)
-                continue;
-              if (!inside(mapping, cell, position(beam, e, xi)))
-                {
-                  hi = xi;
-                  break;
-                }
-              lo = xi;
-            }
-          double xi_b = 1.0;
-          if (lo < 1.0)
-            {
+              double lo = std::min(xi_a + 1e-8, 1.0), hi = 1.0;
               for (int k = 0; k < 60 && hi - lo > 1e-14; ++k)
                 {
                   const double mid = 0.5 * (lo + hi);
@@ -109,7 +97,7 @@ namespace physics::beam_solid
             {
               const double   xi = xi_a + (xi_b - xi_a) * gauss.point(q)[0];
               const Point<3> p  = position(beam, e, xi);
-              points.push_back({e, xi, gauss.weight(q) * (xi_b - xi_a) * beam.reference_jacobian(e, xi), cell,
+              points.push_back({e, xi, gauss.weight(q) * 0.5 * (xi_b - xi_a) * l, cell,
                                 mapping.transform_real_to_unit_cell(cell, p)});
             }
           xi_a = xi_b;
@@ -144,7 +132,7 @@ namespace physics::beam_solid
                 {
                   const double xi    = 2 * gauss.point(q)[0] - 1;
                   const auto   found = locate(cache, position(beam, e, xi), e, source);
-                  points.push_back({e, xi, 2 * gauss.weight(q) * beam.reference_jacobian(e, xi), found.first, found.second});
+                  points.push_back({e, xi, gauss.weight(q) * beam.element_length(e), found.first, found.second});
                 }
           }
       }

@@ -27,8 +27,11 @@ namespace physics::beam_solid
     prm.enter_subsection("Fibres");
     prm.declare_entry("Beam file", "", Anything(),
                       "gmsh beam mesh: a .geo (meshed with gmsh -1) or an ASCII msh 2.2 file whose 2-node line "
-                      "elements are the beam elements (straight between collinear elements). Empty: the generated "
-                      "fibre grid below.");
+                      "elements are the beam elements: straight fibres, elements collinear where they meet (the "
+                      "torsion-free beam model needs straight reference fibres). Empty: the generated fibre grid "
+                      "below.");
+    prm.declare_entry("Beam refinement", "1", Integer(1, 1000),
+                      "Value of the .geo file's 'refine' constant when gmsh meshes it (ignored for .msh).");
     prm.declare_entry("Fibres in y", "3", Integer(0, 1000), "Fibres per row across the width (y).");
     prm.declare_entry("Fibres in z", "3", Integer(0, 1000), "Rows of fibres across the height (z).");
     prm.declare_entry("Elements per fibre", "8", Integer(1, 100000), "Beam elements along each fibre.");
@@ -86,6 +89,7 @@ namespace physics::beam_solid
 
     prm.enter_subsection("Fibres");
     beam_file          = prm.get("Beam file");
+    beam_refinement    = prm.get_integer("Beam refinement");
     fibres_y           = prm.get_integer("Fibres in y");
     fibres_z           = prm.get_integer("Fibres in z");
     elements_per_fibre = prm.get_integer("Elements per fibre");

@@ -56,7 +56,7 @@ namespace physics::beam_solid
             add_straight_fibre(beam, Point<3>(0, y, z), Point<3>(p.size[0], y, z + p.fibre_tilt * p.size[2]),
                                p.elements_per_fibre);
           }
-      beam.set_reference_geometry("Fibres");
+      beam.check_and_set_tangents("Fibres");
       return beam;
     }
 
@@ -154,7 +154,8 @@ namespace physics::beam_solid
 
       beam_ = p_.beam_file.empty()
                   ? generate_fibres(p_)
-                  : read_beam_mesh(gmsh_mesh(p_.beam_file, 1, 1, p_.output_directory, comm_));
+                  : read_beam_mesh(gmsh_mesh(p_.beam_file, 1, p_.beam_refinement, p_.output_directory, comm_),
+                                   p_.beam_file);
       section_ = BeamSection::circular(p_.beam_youngs_modulus, p_.fibre_radius);
       // Beam nodes: contiguous blocks per rank.
       const std::size_t n_nodes = beam_.nodes.size();

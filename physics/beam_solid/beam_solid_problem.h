@@ -24,9 +24,10 @@ namespace physics::beam_solid
     std::vector<double> size{1.0, 1.0, 1.0};
     std::vector<int>    cells{4, 4, 4};
     double              solid_youngs_modulus = 1.0, solid_poisson_ratio = 0.3;
-    // Fibres: a gmsh beam mesh (msh 2.2 lines, or a .geo meshed in 1D), or else a grid of
-    // ny x nz straight fibres along x through the box
+    // Fibres: a gmsh beam mesh (msh 2.2 lines, or a .geo meshed in 1D with `refine` =
+    // beam_refinement), or else a grid of ny x nz straight fibres along x through the box
     std::string beam_file;
+    int         beam_refinement = 1;
     int    fibres_y = 3, fibres_z = 3, elements_per_fibre = 8;
     double fibre_margin = 0.1;  ///< distance of the outer fibres from the box faces (fraction)
     double fibre_tilt   = 0.0;  ///< fibres rise by this (fraction of the height) over their length

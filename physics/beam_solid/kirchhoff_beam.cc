@@ -16,191 +16,95 @@ namespace physics::beam_solid
   using dealii::Point;
   using dealii::Tensor;
 
-  namespace
+  double BeamMesh::element_length(std::size_t e) const
   {
-    /// Reference nodal vectors (X1, (l/2) T1, X2, (l/2) T2) of element e for arc length l.
-    std::array<Tensor<1, 3>, 4> reference_vectors(const BeamMesh& mesh, std::size_t e, double l)
-    {
-      const auto n0 = mesh.elements[e][0], n1 = mesh.elements[e][1];
-      return {{Tensor<1, 3>(mesh.nodes[n0]), 0.5 * l * mesh.tangents[n0], Tensor<1, 3>(mesh.nodes[n1]),
-               0.5 * l * mesh.tangents[n1]}};
-    }
-
-    /// dX/dxi and d2X/dxi2 of the reference centreline.
-    std::pair<Tensor<1, 3>, Tensor<1, 3>> reference_derivatives(const std::array<Tensor<1, 3>, 4>& v, double xi)
-    {
-      const auto   h = hermite(xi);
-      Tensor<1, 3> d1, d2;
-      for (int a = 0; a < 4; ++a)
-        {
-          d1 += h.d1[a] * v[a];
-          d2 += h.d2[a] * v[a];
-        }
-      return {d1, d2};
-    }
-
-    /// Arc length of the Hermite curve through the element's nodes with its nodal unit tangents:
-    /// the fixed point of l = int_{-1}^{1} |X_xi(l)| dxi (the tangents are scaled by l/2, so l
-    /// enters the curve). The chord for straight elements; a contraction for curves whose turn
-    /// per element is bounded (max_turn_angle).
-    double arc_length(const BeamMesh& mesh, std::size_t e)
-    {
-      const dealii::QGauss<1> gauss(8);
-      const double            chord = mesh.nodes[mesh.elements[e][1]].distance(mesh.nodes[mesh.elements[e][0]]);
-      double                  l     = chord;
-      for (int it = 0; it < 100; ++it)
-        {
-          const auto v    = reference_vectors(mesh, e, l);
-          double     next = 0;
-          for (unsigned int q = 0; q < gauss.size(); ++q)
-            next += 2 * gauss.weight(q) * reference_derivatives(v, 2 * gauss.point(q)[0] - 1).first.norm();
-          const bool converged = std::abs(next - l) <= 1e-15 * chord;
-          l                    = next;
-          if (converged)
-            break;
-        }
-      return l;
-    }
-
-    /// Unit tangent at node i of a polyline (the nodes of one fibre in order) through points on a
-    /// smooth curve: the derivative at node i of the polynomial through up to 5 consecutive nodes
-    /// (centred where the fibre allows, wrapping around closed loops), parametrized by cumulative
-    /// chord length. Its direction is that of the curve's tangent to O(h^4) (the parametrization
-    /// only changes the length of the derivative); with 3 nodes it is the tangent of the circle
-    /// through them, |b|^2 a + |a|^2 b for the chords a, b; with 2 the chord.
-    Tensor<1, 3> polyline_tangent(const std::vector<Point<3>>& nodes, const std::vector<int>& chain, bool closed, int i)
-    {
-      const int m     = static_cast<int>(chain.size()) - (closed ? 1 : 0);
-      const int width = std::min(5, m);
-      // Stencil positions k = first .. first + width - 1 (indices into the chain, modulo m when
-      // closed), and the chord-length parameter s_k with s_i = 0.
-      const int first = closed ? i - width / 2 : std::clamp(i - width / 2, 0, m - width);
-      auto      node  = [&](int k) { return nodes[chain[((k % m) + m) % m]]; };
-      std::vector<double> s(width, 0.0);
-      for (int k = i - first + 1; k < width; ++k)
-        s[k] = s[k - 1] + node(first + k).distance(node(first + k - 1));
-      for (int k = i - first - 1; k >= 0; --k)
-        s[k] = s[k + 1] - node(first + k + 1).distance(node(first + k));
-      // d/ds of the Lagrange basis at s_i = 0: L_i' = sum_{j != i} 1 / (s_i - s_j) and, for k != i,
-      // L_k' = 1 / (s_k - s_i) prod_{j != i, k} (s_i - s_j) / (s_k - s_j).
-      const int    c = i - first;
-      Tensor<1, 3> t;
-      for (int k = 0; k < width; ++k)
-        {
-          double weight = 0;
-          if (k == c)
-            for (int j = 0; j < width; ++j)
-              weight += j == c ? 0.0 : 1.0 / (s[c] - s[j]);
-          else
-            {
-              weight = 1.0 / (s[k] - s[c]);
-              for (int j = 0; j < width; ++j)
-                if (j != c && j != k)
-                  weight *= (s[c] - s[j]) / (s[k] - s[j]);
-            }
-          t += weight * Tensor<1, 3>(node(first + k));
-        }
-      return t / t.norm();
-    }
-  } // namespace
-
-  Point<3> BeamMesh::reference_position(std::size_t e, double xi) const
-  {
-    const auto w = centreline_weights(xi, element_length(e));
-    const auto n = elements[e];
-    return Point<3>(w[0] * nodes[n[0]] + w[1] * tangents[n[0]] + w[2] * nodes[n[1]] + w[3] * tangents[n[1]]);
+    return nodes[elements[e][1]].distance(nodes[elements[e][0]]);
   }
 
-  double BeamMesh::reference_jacobian(std::size_t e, double xi) const
-  {
-    return reference_derivatives(reference_vectors(*this, e, element_length(e)), xi).first.norm();
-  }
-
-  void BeamMesh::set_reference_geometry(const std::string& source)
+  void BeamMesh::check_and_set_tangents(const std::string& source)
   {
     auto fail = [&](const std::string& what) { throw std::invalid_argument(source + ": " + what); };
-    // Elements at each node; a fibre is a simple chain.
-    std::vector<std::vector<std::size_t>> at_node(nodes.size());
+    auto node = [&](std::size_t n) {
+      std::ostringstream where;
+      where << "node " << n << " (" << nodes[n] << ")";
+      return where.str();
+    };
+    std::vector<std::vector<std::size_t>> at_node(nodes.size()); // elements at each node
     for (std::size_t e = 0; e < elements.size(); ++e)
       {
         for (const int n : elements[e])
           if (n < 0 || n >= static_cast<int>(nodes.size()))
             fail("beam element " + std::to_string(e) + " refers to node " + std::to_string(n) + ", but there are " +
                  std::to_string(nodes.size()));
-        if (!(nodes[elements[e][1]].distance(nodes[elements[e][0]]) > 1e-12))
+        if (!(element_length(e) > 1e-12))
           fail("beam element " + std::to_string(e) + " has zero length");
         for (const int n : elements[e])
           at_node[n].push_back(e);
       }
     for (std::size_t n = 0; n < nodes.size(); ++n)
       if (at_node[n].empty())
-        fail("beam node " + std::to_string(n) + " belongs to no element");
+        fail("beam " + node(n) + " belongs to no element");
       else if (at_node[n].size() > 2)
-        fail("beam branches at node " + std::to_string(n) + " (" + std::to_string(at_node[n].size()) +
-             " elements meet there; every fibre must be a simple curve)");
+        fail("beam branches at " + node(n) + ": " + std::to_string(at_node[n].size()) +
+             " elements meet there (every fibre must be a simple line)");
 
-    // Orient every fibre head to tail (gmsh may list a curve's elements in either direction):
-    // walk each chain from an end node (open fibres first, then closed loops from any node),
-    // collecting its nodes in order (a closed loop repeats its first node at the end).
-    std::vector<bool>             oriented(elements.size(), false);
-    std::vector<std::vector<int>> fibres;
-    auto                          walk = [&](int n) {
-      std::vector<int> chain{n};
+    // Orient every fibre head to tail (gmsh may list a line's elements in either direction; the
+    // nodal tangent is shared by both elements at a node, so they must agree): walk each chain
+    // from an end node, then closed loops from any node.
+    std::vector<bool> oriented(elements.size(), false);
+    auto              walk = [&](int n) {
       while (true)
         {
           const auto next = std::find_if(at_node[n].begin(), at_node[n].end(), [&](std::size_t k) { return !oriented[k]; });
           if (next == at_node[n].end())
-            break;
-          const std::size_t e = *next;
-          if (elements[e][0] != n)
-            std::swap(elements[e][0], elements[e][1]);
-          oriented[e] = true;
-          n           = elements[e][1];
-          chain.push_back(n);
+            return;
+          if (elements[*next][0] != n)
+            std::swap(elements[*next][0], elements[*next][1]);
+          oriented[*next] = true;
+          n               = elements[*next][1];
         }
-      fibres.push_back(chain);
     };
     for (std::size_t n = 0; n < nodes.size(); ++n)
-      if (at_node[n].size() == 1 && !oriented[at_node[n][0]])
+      if (at_node[n].size() == 1)
         walk(static_cast<int>(n));
     for (std::size_t e = 0; e < elements.size(); ++e)
       if (!oriented[e])
         walk(elements[e][0]);
 
+    // The reference fibre is straight: the unit chord is the nodal tangent of both its nodes.
     tangents.assign(nodes.size(), Tensor<1, 3>());
-    for (const auto& chain : fibres)
+    std::vector<bool> set(nodes.size(), false);
+    for (std::size_t e = 0; e < elements.size(); ++e)
       {
-        const bool closed = chain.size() > 2 && chain.front() == chain.back();
-        const int  m      = static_cast<int>(chain.size()) - (closed ? 1 : 0); // distinct nodes
-        for (int i = 0; i < m; ++i)
+        const Tensor<1, 3> chord = (nodes[elements[e][1]] - nodes[elements[e][0]]) / element_length(e);
+        for (const int n : elements[e])
           {
-            if (closed || (i > 0 && i + 1 < m))
+            if (set[n] && (tangents[n] - chord).norm() > 1e-8)
               {
-                const int          p = chain[(i + m - 1) % m], q = chain[(i + 1) % m], n = chain[i];
-                const Tensor<1, 3> a = nodes[n] - nodes[p], b = nodes[q] - nodes[n];
-                const double angle = std::acos(std::clamp(a * b / (a.norm() * b.norm()), -1.0, 1.0)) * 180 / M_PI;
-                if (angle > max_turn_angle)
-                  fail("beam turns by " + std::to_string(static_cast<int>(std::round(angle))) + " degrees at node " +
-                       std::to_string(n) + " (at most " + std::to_string(static_cast<int>(max_turn_angle)) +
-                       "; a C1 beam needs a smooth curve: refine the curve's mesh)");
+                const double angle = 2 * std::asin(std::min(1.0, 0.5 * (tangents[n] - chord).norm())) * 180 / M_PI;
+                std::ostringstream degrees;
+                degrees.precision(3);
+                degrees << angle;
+                fail("beam kinks by " + degrees.str() + " degrees at " + node(n) +
+                     " (the torsion-free beam needs straight reference fibres: elements collinear where they "
+                     "meet; curved fibres need a rod with torsional stiffness, not implemented)");
               }
-            tangents[chain[i]] = polyline_tangent(nodes, chain, closed, i);
+            tangents[n] = chord;
+            set[n]      = true;
           }
       }
-    lengths.resize(elements.size());
-    for (std::size_t e = 0; e < elements.size(); ++e)
-      lengths[e] = arc_length(*this, e);
   }
 
-  BeamMesh read_beam_mesh(const std::string& file)
+  BeamMesh read_beam_mesh(const std::string& file, const std::string& name)
   {
-    std::ifstream in(file);
+    const std::string source = name.empty() ? file : name;
+    std::ifstream     in(file);
     if (!in)
-      throw std::invalid_argument(file + ": cannot open the beam mesh");
+      throw std::invalid_argument(source + ": cannot open the beam mesh");
     BeamMesh                mesh;
     std::map<long, int>     index_of_node;
     std::string             line;
-    auto fail = [&](const std::string& what) { throw std::invalid_argument(file + ": " + what); };
+    auto fail = [&](const std::string& what) { throw std::invalid_argument(source + ": " + what); };
     while (std::getline(in, line))
       {
         if (line.rfind("$MeshFormat", 0) == 0)
@@ -262,7 +166,7 @@ namespace physics::beam_solid
           n = renumber[n];
         }
     used.elements = mesh.elements;
-    used.set_reference_geometry(file);
+    used.check_and_set_tangents(source);
     return used;
   }
 
@@ -323,14 +227,16 @@ namespace physics::beam_solid
   ElementDerivatives element_derivatives(const BeamMesh& mesh, std::size_t e, const BeamSection& section,
                                          const std::array<double, 12>& d)
   {
-    const double l         = mesh.element_length(e);
-    const auto   reference = reference_vectors(mesh, e, l); // (X1, (l/2) T1, X2, (l/2) T2)
-    // Current nodal vectors (r1, (l/2) t1, r2, (l/2) t2) as AD variables.
-    const auto                          x = seed<n_element_dofs>(d);
+    const double l  = mesh.element_length(e);
+    const auto   n0 = mesh.elements[e][0], n1 = mesh.elements[e][1];
+    // Nodal vectors (r1, t1, r2, t2) as AD variables.
+    const auto                     x = seed<n_element_dofs>(d);
     std::array<std::array<Outer, 3>, 4> nodal;
+    const std::array<Tensor<1, 3>, 4> reference{{Tensor<1, 3>(mesh.nodes[n0]), mesh.tangents[n0],
+                                                 Tensor<1, 3>(mesh.nodes[n1]), mesh.tangents[n1]}};
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c)
-        nodal[a][c] = reference[a][c] + (a % 2 == 1 ? 0.5 * l : 1.0) * x[3 * a + c];
+        nodal[a][c] = reference[a][c] + x[3 * a + c];
 
     const dealii::QGauss<1> gauss(6); // on [0, 1]
     Outer                   energy = 0.0;
@@ -338,32 +244,27 @@ namespace physics::beam_solid
       {
         const double xi = 2 * gauss.point(q)[0] - 1;
         const auto   h  = hermite(xi);
-        // Reference: J = |X_xi| and the reference curvature kappa_0 = |X_xi x X_xixi| / J^3.
-        const auto [X1, X2]       = reference_derivatives(reference, xi);
-        const double J            = X1.norm();
-        const double kappa_0      = cross_product_3d(X1, X2).norm() / (J * J * J);
-        const bool   curved       = kappa_0 * l > 1e-12;
-        std::array<Outer, 3> r1, r2; // r_xi, r_xixi
+        // r' = (2/l) r_xi, r'' = (4/l^2) r_xixi; the tangent weights carry l/2.
+        const std::array<double, 4> w1{{2 / l * h.d1[0], h.d1[1], 2 / l * h.d1[2], h.d1[3]}};
+        const std::array<double, 4> w2{{4 / (l * l) * h.d2[0], 2 / l * h.d2[1], 4 / (l * l) * h.d2[2], 2 / l * h.d2[3]}};
+        std::array<Outer, 3> r1, r2;
         for (int c = 0; c < 3; ++c)
           {
             r1[c] = 0.0;
             r2[c] = 0.0;
             for (int a = 0; a < 4; ++a)
               {
-                r1[c] += h.d1[a] * nodal[a][c];
-                r2[c] += h.d2[a] * nodal[a][c];
+                r1[c] += w1[a] * nodal[a][c];
+                r2[c] += w2[a] * nodal[a][c];
               }
           }
         const Outer norm2 = r1[0] * r1[0] + r1[1] * r1[1] + r1[2] * r1[2];
-        const Outer eps   = sqrt(norm2) / J - 1.0;
+        const Outer eps   = sqrt(norm2) - 1.0;
         const Outer c0 = r1[1] * r2[2] - r1[2] * r2[1], c1 = r1[2] * r2[0] - r1[0] * r2[2],
                     c2 = r1[0] * r2[1] - r1[1] * r2[0];
-        const Outer kappa2  = (c0 * c0 + c1 * c1 + c2 * c2) / (J * J * norm2 * norm2);
-        // (kappa - kappa_0)^2 = kappa^2 - 2 kappa_0 kappa + kappa_0^2; without the square root
-        // when the reference is straight (smooth at kappa = 0).
-        const Outer bending = curved ? kappa2 - 2 * kappa_0 * sqrt(kappa2) + kappa_0 * kappa_0 : kappa2;
-        // ds = J dxi; Gauss weights on [0, 1] sum to 1, on [-1, 1] to 2.
-        energy += (0.5 * section.EA * eps * eps + 0.5 * section.EI * bending) * (2 * J * gauss.weight(q));
+        const Outer kappa2 = (c0 * c0 + c1 * c1 + c2 * c2) / (norm2 * norm2);
+        // ds = (l/2) dxi; Gauss weights on [0,1] sum to 1, on [-1,1] to 2: factor l overall.
+        energy += (0.5 * section.EA * eps * eps + 0.5 * section.EI * kappa2) * (l * gauss.weight(q));
       }
     ElementDerivatives result;
     result.energy = energy.val().val();

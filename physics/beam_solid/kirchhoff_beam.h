@@ -1,30 +1,29 @@
 // Geometrically exact, torsion-free Kirchhoff-Love beam in 3D (Meier et al.; BEAM_SOLID.md).
 //
-// Centreline r(xi), xi in [-1, 1], cubic Hermite on each 2-node element with nodal positions and
-// (non-unit) nodal tangents as unknowns:
+// Centreline r(xi), xi in [-1, 1], cubic Hermite on each straight 2-node reference element of
+// length l, with nodal positions and (non-unit) nodal tangents as unknowns:
 //   r(xi) = H1 r1 + (l/2) H2 t1 + H3 r2 + (l/2) H4 t2,
 //   H1 = (2 - 3 xi + xi^3)/4,  H2 = (1 - xi - xi^2 + xi^3)/4,
 //   H3 = (2 + 3 xi - xi^3)/4,  H4 = (-1 - xi + xi^2 + xi^3)/4.
-// The reference centreline X(xi) is the same interpolation of the nodal reference positions X_i
-// and unit tangents T_i; l is its arc length (a fixed point, l = int |X_xi(l)| dxi; the chord for
-// straight elements). With J = |X_xi| (ds = J dxi) the stored energy per unit reference length is
-//   psi = EA/2 eps^2 + EI/2 (kappa - kappa_0)^2,
-//   eps = |r_xi| / J - 1,   kappa = |r_xi x r_xixi| / (J |r_xi|^2),   kappa_0 = |X_xi x X_xixi| / J^3
-// (kappa: the rate at which the unit tangent turns per unit reference length; independent of the
-// parametrization). For straight references (kappa_0 = 0) the bending term is EI/2 kappa^2, smooth
-// at kappa = 0. For curved references, EI/2 (|kappa| - |kappa_0|)^2 is the exact torsion-free
-// limit of an isotropic rod: with zero torsional stiffness the cross-section may rotate freely about
-// the tangent, and minimizing EI/2 |K - K_0|^2 (material curvature vectors) over that rotation
-// leaves the difference of the magnitudes. It is objective (depends on stretch and |kappa| only)
-// but carries no torsional moment: a free curved beam has no linear stiffness against an
-// out-of-plane load (it would need torsion); an embedded fibre is held there by the solid.
-// Residual and tangent are the gradient and Hessian of the element energy, computed with nested
-// Sacado forward AD (exact to rounding, nonsymmetric only through external moments).
+// Reference arc length s = (l/2)(xi + 1), so r' = (2/l) r_xi and r'' = (4/l^2) r_xixi. Stored
+// energy per unit reference length
+//   psi = EA/2 eps^2 + EI/2 kappa^2,   eps = |r'| - 1,   kappa^2 = |r' x r''|^2 / |r'|^4
+// (kappa: the rate at which the unit tangent turns per unit reference length). Writing kappa^2
+// instead of kappa keeps psi smooth at kappa = 0; reference configurations are straight
+// (kappa_0 = 0). Residual and tangent are the gradient and Hessian of the element energy,
+// computed with nested Sacado forward AD (exact to rounding, nonsymmetric only through
+// external moments).
+//
+// Why straight references only: the torsion-free model has no twist, and its only objective
+// extension to a curved reference (kappa_0 > 0) is the zero-torsional-stiffness limit of an
+// isotropic rod, EI/2 (|kappa| - |kappa_0|)^2. That limit is degenerate: it has no linear
+// stiffness against out-of-plane bending of a curved fibre, and a straightened fibre recovers
+// |kappa| = |kappa_0| at no cost by coiling into a helix. (Tried: embedded crimped fibres in the
+// cube case stall Newton near 1e-4.) Curved fibres need a rod with a twist unknown (Kirchhoff-
+// Love with torsion, Meier et al., or Simo-Reissner); not implemented.
 //
 // Unknowns per node (6): the displacement of the position, r - X, then of the tangent, t - T.
-// Nodal reference tangents of polylines (gmsh line elements along a curve) are those of the
-// circle through the node and its two neighbours, exact on circular arcs (BeamMesh::
-// set_reference_geometry).
+// The nodal reference tangent T is the unit vector along the element chords (straight beams).
 #pragma once
 
 #include <deal.II/base/point.h>
@@ -36,41 +35,29 @@
 
 namespace physics::beam_solid
 {
-  /// A beam (or several disjoint fibres, open or closed): 2-node elements through the nodes,
-  /// each fibre a simple chain of elements.
+  /// A beam (or several disjoint fibres): straight 2-node elements through the nodes.
   struct BeamMesh
   {
     std::vector<dealii::Point<3>>    nodes;
     std::vector<std::array<int, 2>>  elements;
-    /// Unit reference tangent per node and reference arc length per element (set by
-    /// set_reference_geometry()).
+    /// Unit reference tangent per node (set by check_and_set_tangents()).
     std::vector<dealii::Tensor<1, 3>> tangents;
-    std::vector<double>               lengths;
-
-    /// The largest angle (degrees) between the chords of two elements meeting at a node: a
-    /// polyline must resolve its curve (a C1 beam cannot represent a corner).
-    static constexpr double max_turn_angle = 60.0;
 
     unsigned int n_dofs() const { return 6 * static_cast<unsigned int>(nodes.size()); }
-    double       element_length(std::size_t e) const { return lengths.at(e); }
-    /// Reference centreline X(xi) of element e and J = |dX/dxi| (ds = J dxi).
-    dealii::Point<3> reference_position(std::size_t e, double xi) const;
-    double           reference_jacobian(std::size_t e, double xi) const;
-
-    /// Orients the elements of every fibre head to tail, sets the nodal tangents (the chord of a
-    /// one-element fibre; at inner nodes the tangent of the circle through the node and its
-    /// neighbours, at end nodes that circle's tangent there) and the elements' arc lengths.
-    /// Throws std::invalid_argument naming `source` for an element index out of range, a
-    /// zero-length element, a node shared by more than two elements, or chords turning by more
-    /// than max_turn_angle at a node.
-    void set_reference_geometry(const std::string& source);
+    double       element_length(std::size_t e) const;
+    /// Orients the elements of every fibre head to tail and sets the nodal tangents from the
+    /// chords. Throws std::invalid_argument naming `source` for an element index out of range, a
+    /// zero-length element, a node in no element or in more than two (a branch), and a kink
+    /// between the elements at a node (the reference beam must be straight there: the
+    /// torsion-free model is defined for straight reference fibres).
+    void check_and_set_tangents(const std::string& source);
   };
 
   /// Beams from a gmsh mesh in the ASCII msh 2.2 format: every 2-node line element (type 1)
-  /// becomes a beam element (straight lines or polylines along curves); other elements are
-  /// ignored. Throws std::invalid_argument naming `file` for an unreadable file, a file without
-  /// line elements, and what set_reference_geometry() rejects.
-  BeamMesh read_beam_mesh(const std::string& file);
+  /// becomes a beam element; other elements are ignored. Throws std::invalid_argument naming
+  /// `name` (the user's file, e.g. the .geo gmsh meshed into `file`; default `file`) for an
+  /// unreadable file, a file without line elements, and what check_and_set_tangents() rejects.
+  BeamMesh read_beam_mesh(const std::string& file, const std::string& name = "");
 
   /// Straight fibre from a to b with n elements.
   void add_straight_fibre(BeamMesh& mesh, const dealii::Point<3>& a, const dealii::Point<3>& b, int n_elements);
