@@ -59,12 +59,6 @@ namespace multigrid
       RCP<const ::multigrid::Map> map_;
     };
 
-    std::string string_or(const Teuchos::ParameterList& list, const std::string& name,
-                          const std::string& fallback)
-    {
-      return list.isParameter(name) ? list.get<std::string>(name) : fallback;
-    }
-
     /// Amesos2's KLU2 as MueLu 13.2's coarse solver is not exact on more than one rank: on the
     /// 4.1k-DOF Schur complement of beam_solid_block (r = 2), 2 ranks, a 2-level SA-AMG with a
     /// 348-row coarse level needs 12 GMRES iterations against 7 with a third level (24 rows) and
@@ -73,14 +67,14 @@ namespace multigrid
     /// SuperLU replaces it (gathered to rank 0, like KLU2 would be).
     bool replaces_amesos2(const Teuchos::ParameterList& list, int ranks)
     {
-      const std::string coarse = string_or(list, "coarse: type", "KLU2");
+      const std::string coarse = value_or<std::string>(list, "coarse: type", "KLU2");
       return ranks > 1 && (coarse == "KLU2" || coarse == "Klu2" || coarse == "KLU" || coarse == "Klu");
     }
 
     std::string coarse_solver_name(const Teuchos::ParameterList& list, int ranks)
     {
       return replaces_amesos2(list, ranks) ? "SuperLU (project adaptor, in place of Amesos2 on several ranks)"
-                                           : string_or(list, "coarse: type", "KLU2");
+                                           : value_or<std::string>(list, "coarse: type", "KLU2");
     }
 
     /// Level table and operator complexity (sum of nonzeros over the fine level's).

@@ -22,7 +22,7 @@ namespace multigrid
     std::string choice(const Teuchos::ParameterList& p, const std::string& name, const std::string& fallback,
                        const std::vector<std::string>& allowed)
     {
-      const std::string value = p.isParameter(name) ? p.get<std::string>(name) : fallback;
+      const std::string value = value_or<std::string>(p, name, fallback);
       if (std::find(allowed.begin(), allowed.end(), value) == allowed.end())
         {
           std::string list;
@@ -45,12 +45,8 @@ namespace multigrid
     if (sweeps_ < 1 || !(damping_ > 0.0))
       throw InputError("CheapSIMPLE: sweeps must be >= 1 and damping > 0 (got " + std::to_string(sweeps_) +
                        ", " + std::to_string(damping_) + ")");
-    InverseApproximationOptions inverse;
-    inverse.type = choice(p, "inverse approximation", "diagonal", {"diagonal", "lumping", "spai"});
-    if (p.isParameter("spai: pattern power"))
-      inverse.pattern_power = p.get<int>("spai: pattern power");
-    if (p.isParameter("spai: drop tolerance"))
-      inverse.drop_tolerance = p.get<double>("spai: drop tolerance");
+    // Â's type is checked by approximate_inverse().
+    const auto        inverse         = inverse_approximation_options(p, "inverse approximation", "diagonal");
     const std::string predictor       = choice(p, "predictor", "amg", {"amg", "approximate inverse"});
     const std::string schur_nullspace = choice(p, "schur nullspace", "none", {"none", "block"});
 

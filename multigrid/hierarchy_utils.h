@@ -6,6 +6,7 @@
 
 #include <Teuchos_ParameterList.hpp>
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -24,6 +25,13 @@ namespace multigrid
   RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
                                               const RCP<MultiVector>&       nullspace,
                                               const Teuchos::ParameterList& muelu_parameters);
+
+  /// The parameter `name` of `list`, or `fallback` when it is absent.
+  template <typename T>
+  T value_or(const Teuchos::ParameterList& list, const std::string& name, T fallback)
+  {
+    return list.isParameter(name) ? list.get<T>(name) : fallback;
+  }
 
   /// (rows, nonzeros) of every level's operator, fine first.
   std::vector<std::pair<long long, long long>> level_sizes(Hierarchy& H);

@@ -1,5 +1,7 @@
 #include "inverse_approximation.h"
 
+#include "hierarchy_utils.h"
+
 #include <Teuchos_LAPACK.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 #include <Tpetra_CrsMatrix.hpp>
@@ -170,6 +172,17 @@ namespace multigrid
         return spai(A, options);
       }
     throw InputError("unknown inverse approximation '" + options.type + "' (expected diagonal, lumping or spai)");
+  }
+
+  InverseApproximationOptions inverse_approximation_options(const Teuchos::ParameterList& list,
+                                                            const std::string& type_key,
+                                                            const std::string& default_type)
+  {
+    InverseApproximationOptions options;
+    options.type           = value_or<std::string>(list, type_key, default_type);
+    options.pattern_power  = value_or<int>(list, "spai: pattern power", options.pattern_power);
+    options.drop_tolerance = value_or<double>(list, "spai: drop tolerance", options.drop_tolerance);
+    return options;
   }
 
   RCP<Matrix> approximate_inverse(const Matrix& A, const InverseApproximationOptions& options)

@@ -19,6 +19,7 @@
 
 #include "types.h"
 
+#include <Teuchos_ParameterList.hpp>
 #include <Tpetra_CrsMatrix_fwd.hpp>
 #include <Tpetra_MultiVector_fwd.hpp>
 
@@ -35,6 +36,12 @@ namespace multigrid
     int         pattern_power  = 1;      ///< spai: pattern of A^k, k = 1 ... 4
     double      drop_tolerance = 0.0;    ///< spai: relative to the largest entry of the pattern row
   };
+
+  /// Options from a parameter list: the type under `type_key` (default `default_type`), then
+  /// "spai: pattern power" and "spai: drop tolerance" (defaults above).
+  InverseApproximationOptions inverse_approximation_options(const Teuchos::ParameterList& list,
+                                                            const std::string& type_key,
+                                                            const std::string& default_type);
 
   /// Â for A (square, fill-complete, row map = range map). Throws InputError for an unknown type,
   /// a pattern power outside 1 ... 4, a negative drop tolerance, or a zero diagonal (diagonal /

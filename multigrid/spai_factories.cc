@@ -1,5 +1,6 @@
 #include "spai_factories.h"
 
+#include "hierarchy_utils.h"
 #include "inverse_approximation.h"
 
 #include <MueLu_Level.hpp>
@@ -20,21 +21,13 @@ namespace multigrid
     using MueLu::Level;
     using FactoryPointer = RCP<const MueLu::FactoryBase>;
 
-    template <typename T>
-    T value_or(const Teuchos::ParameterList& list, const std::string& name, T fallback)
-    {
-      return list.isParameter(name) ? list.get<T>(name) : fallback;
-    }
-
     /// "Ainv" = Â ≈ A^-1 of the level's "A" (usually the A00 block): diagonal, lumping or spai.
     class InverseApproximationFactory : public MueLu::SingleLevelFactoryBase
     {
     public:
       explicit InverseApproximationFactory(const Teuchos::ParameterList& list)
+          : options_(inverse_approximation_options(list, "inverse: approximation type", "spai"))
       {
-        options_.type           = value_or<std::string>(list, "inverse: approximation type", "spai");
-        options_.pattern_power  = value_or<int>(list, "spai: pattern power", 1);
-        options_.drop_tolerance = value_or<double>(list, "spai: drop tolerance", 0.0);
       }
 
       RCP<const Teuchos::ParameterList> GetValidParameterList() const override

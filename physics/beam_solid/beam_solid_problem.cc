@@ -235,9 +235,9 @@ namespace physics::beam_solid
                 beam_rows[row][6 * beam_.elements[e][j / 6] + j % 6] += ed.hessian[12 * i + j];
             }
         }
-      beam_rows     = send_rows_to_owners(beam_rows, [this](GlobalIndex row) { return beam_node_owner(row / 6); }, comm_);
-      beam_residual = send_entries_to_owners(beam_residual, [this](GlobalIndex row) { return beam_node_owner(row / 6); },
-                                             comm_);
+      const auto beam_row_owner = [this](GlobalIndex row) { return beam_node_owner(row / 6); };
+      beam_rows                 = send_rows_to_owners(beam_rows, beam_row_owner, comm_);
+      beam_residual             = send_entries_to_owners(beam_residual, beam_row_owner, comm_);
 
       // Coupling forces: the (owned rows of the) constant penalty matrix times the displacements.
       std::map<GlobalIndex, double> coupling_residual;
