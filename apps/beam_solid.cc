@@ -12,6 +12,7 @@
 #include <deal.II/base/mpi.h>
 
 
+#include <iomanip>
 #include <iostream>
 
 namespace
@@ -57,7 +58,9 @@ int main(int argc, char** argv)
                     << "; setup " << summary.setup_seconds << " s, solve " << summary.solve_seconds << " s; "
                     << (summary.converged ? "converged" : "NOT converged") << "\n"
                     << "Mean x displacement of the loaded face " << summary.mean_end_displacement
-                    << ", largest beam/solid gap " << summary.max_gap << "\n";
+                    << ", largest beam/solid gap " << summary.max_gap << "\n"
+                    << std::setprecision(16) << "Displacement norms: solid " << summary.solid_displacement_l2
+                    << ", beam " << summary.beam_displacement_l2 << "\n";
         }
       return summary.converged ? 0 : 1;
     });

@@ -88,7 +88,9 @@ int main(int argc, char** argv)
           }
           std::filesystem::rename(csv + ".tmp", csv);
           std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
-                    << ", total normal force " << force << "\n";
+                    << ", total normal force " << force << "\n"
+                    << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "
+                    << summary.max_displacement << "\n";
         }
       return summary.converged ? 0 : 1;
     });

@@ -437,6 +437,11 @@ namespace physics::beam_solid
       for (const auto& g : coupling_->gaps(d_beam_, u_ghosted_))
         gap = std::max(gap, std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]));
       summary.max_gap = gap;
+      summary.solid_displacement_l2 = u_.l2_norm();
+      double beam_sq                = 0;
+      for (const double d : d_beam_)
+        beam_sq += d * d;
+      summary.beam_displacement_l2 = std::sqrt(beam_sq);
       double sum = 0, count = 0;
       for (const auto& cell : dof_handler_.active_cell_iterators())
         for (const unsigned int v : cell->vertex_indices())

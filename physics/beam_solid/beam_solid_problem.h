@@ -61,6 +61,7 @@ namespace physics::beam_solid
     std::size_t coupling_points = 0;
     /// Final state: the loaded face's mean x displacement and the largest beam/solid gap.
     double mean_end_displacement = 0, max_gap = 0;
+    double solid_displacement_l2 = 0, beam_displacement_l2 = 0; ///< ||d_S||, ||d_B|| (global vector norms)
     std::vector<double> beam_displacement; ///< all beam DOFs (6 per node)
   };
 
