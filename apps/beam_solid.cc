@@ -6,6 +6,7 @@
 //   beam_solid --print-parameters      (all parameters with their documentation)
 #include "beam_solid/beam_solid_problem.h"
 #include "common/app_parameters.h"
+#include "common/run_directory.h"
 #include "trilinos_scope.h"
 #include "types.h"
 
@@ -44,6 +45,9 @@ int main(int argc, char** argv)
         return 0;
       physics::beam_solid::BeamSolidParameters p;
       p.parse(prm);
+      // The run's directory with the parameters it really uses (every entry, defaults included).
+      physics::prepare_output_directory(p.output_directory, MPI_COMM_WORLD);
+      physics::write_used_parameters(prm, p.output_directory, MPI_COMM_WORLD);
       const auto summary = physics::beam_solid::run_beam_solid(p, MPI_COMM_WORLD);
       if (root)
         {

@@ -4,6 +4,7 @@
 //   mpirun -np 2 contact_blocks apps/contact_blocks_2d.prm
 //   contact_blocks --print-parameters      (all parameters with their documentation)
 #include "common/app_parameters.h"
+#include "common/run_directory.h"
 #include "contact/contact_problem.h"
 #include "trilinos_scope.h"
 #include "types.h"
@@ -47,6 +48,9 @@ int main(int argc, char** argv)
         return 0;
       physics::contact::ContactParameters p;
       p.parse(prm);
+      // The run's directory with the parameters it really uses (every entry, defaults included).
+      physics::prepare_output_directory(p.output_directory, MPI_COMM_WORLD);
+      physics::write_used_parameters(prm, p.output_directory, MPI_COMM_WORLD);
       const auto summary = physics::contact::run_contact(p, MPI_COMM_WORLD);
       if (root)
         {

@@ -118,15 +118,18 @@ namespace multigrid
     Teuchos::Time timer("solve");
     timer.start(true);
     // Belos throws when the residual turns NaN (a preconditioner that blew up): that is a solve
-    // that did not converge, reported as such with x = 0, not an exception for the caller.
+    // that failed, reported as such (report.failure, a NaN residual), never a usable x = 0.
     Belos::ReturnType result = Belos::Unconverged;
     try
       {
         result = gmres.solve();
       }
-    catch (const std::exception&)
+    catch (const std::exception& e)
       {
-        x.putScalar(0.0);
+        std::string what = e.what();
+        what             = what.substr(0, what.find('\n'));
+        report.failure   = "GMRES broke down (" + what.substr(0, 160) + ")";
+        x.putScalar(std::nan(""));
       }
     report.solve_seconds = timer.stop();
     report.converged     = (result == Belos::Converged);
@@ -177,6 +180,7 @@ namespace multigrid
     out << "GMRES               " << (r.converged ? "converged" : "NOT converged") << " in " << r.iterations
         << " iterations (tolerance " << r.options.tolerance << (r.options.per_block ? " per block" : "")
         << ", restart " << r.options.restart << ")\n"
+        << (r.failure.empty() ? "" : "failure             " + r.failure + "\n")
         << "true residual       " << std::scientific << std::setprecision(3) << r.relative_residual
         << " (relative)\n";
     for (std::size_t k = 0; k < r.block_names.size(); ++k)

@@ -25,6 +25,7 @@ namespace multigrid
   struct SolveReport
   {
     bool                     converged  = false;
+    std::string              failure; ///< why the solve broke down (empty: it ran; see converged)
     int                      iterations = 0;
     std::vector<double>      residual_history;      ///< relative (implicit) residual per iteration
     double                   relative_residual = 0; ///< true ||b - A x|| / ||b||
@@ -38,7 +39,8 @@ namespace multigrid
   };
 
   /// Solves A x = b; x (on the system's full map) is overwritten. Never throws for
-  /// non-convergence: the report says so.
+  /// non-convergence or a breakdown: the report says so (a breakdown leaves x = NaN, so that a
+  /// caller ignoring the report cannot mistake it for a solution).
   SolveReport solve(const BlockSystem& system, const BlockPreconditioner& preconditioner, MultiVector& x,
                     const SolveOptions& options);
 

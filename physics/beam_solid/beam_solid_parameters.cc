@@ -59,7 +59,7 @@ namespace physics::beam_solid
     prm.declare_entry("Load steps", "1", Integer(1, 10000), "Equal load increments.");
     prm.leave_subsection();
 
-    BeamSolidParameters().solver.declare(prm);
+    BeamSolidParameters().solver.declare(prm, residual_fields());
 
     prm.enter_subsection("Output");
     prm.declare_entry("Directory", "output/beam_solid", Anything(),
@@ -112,7 +112,7 @@ namespace physics::beam_solid
     load_steps = prm.get_integer("Load steps");
     prm.leave_subsection();
 
-    solver.parse(prm);
+    solver.parse(prm, residual_fields());
 
     prm.enter_subsection("Output");
     output_directory = prm.get("Directory");

@@ -3,14 +3,13 @@
 #include "beam_solid/beam_output.h"
 #include "beam_solid/beam_solid_coupling.h"
 #include "common/mesh_input.h"
+#include "common/newton_solver.h"
+#include "common/run_directory.h"
 #include "common/run_output.h"
 #include "common/solid_mechanics.h"
+#include "common/step_driver.h"
 #include "common/tpetra_bridge.h"
-
-#include "block_preconditioner.h"
-#include "block_system_io.h"
-#include "krylov_solver.h"
-#include "presets.h"
+#include "common/vtk_output.h"
 
 #include <Xpetra_MapFactory.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
@@ -60,11 +59,20 @@ namespace physics::beam_solid
       return beam;
     }
 
-    class BeamSolidProblem
+    class BeamSolidProblem : public SteppedProblem
     {
     public:
       BeamSolidProblem(const BeamSolidParameters& p, MPI_Comm comm);
       BeamSolidRunSummary run();
+
+      // The nonlinear problem of one load step (common/newton_solver.h, step_driver.h).
+      std::vector<std::string> field_names() const override { return BeamSolidParameters::residual_fields(); }
+      Linearization            linearize(int iteration) override;
+      void                     update(const multigrid::MultiVector& dx, double step_length) override;
+      void                     begin_step(double time, double step) override;
+      void                     reset_step() override;
+      void                     end_step(int, double) override {}
+      void                     write_output(int number, double time, bool last) override;
 
     private:
       void setup();
@@ -73,7 +81,7 @@ namespace physics::beam_solid
       /// Beam rows (positions then tangents of the locally owned beam nodes) and their rigid-body
       /// modes, solid rows and theirs.
       void set_nullspaces(multigrid::BlockSystem& system) const;
-      void write_output(int step);
+      void final_state(BeamSolidRunSummary& summary);
       bool owns_beam_node(std::size_t n) const { return n >= beam_first_ && n < beam_end_; }
       /// Beam nodes are split into contiguous blocks, [n N / P, (n + 1) N / P) on rank n.
       unsigned int beam_node_owner(std::size_t n) const
@@ -90,6 +98,7 @@ namespace physics::beam_solid
       MPI_Comm                   comm_;
       const unsigned int         rank_, n_ranks_;
       ConditionalOStream         pcout_;
+      TimerOutput                timer_;
 
       parallel::shared::Triangulation<3> tria_;
       FESystem<3>                        fe_;
@@ -108,7 +117,14 @@ namespace physics::beam_solid
       TrilinosWrappers::MPI::Vector u_, u_ghosted_;
       std::vector<double>           d_beam_; ///< all beam DOFs, on every rank
       JsonLinesLog                  log_;
-      std::unique_ptr<PvdSeries>    solid_pvd_, beam_pvd_;
+      std::unique_ptr<VtkSeries>    solid_vtk_;
+      std::unique_ptr<PvdSeries>    beam_pvd_;
+
+      // The step in progress
+      double                        load_factor_ = 0;
+      TrilinosWrappers::MPI::Vector u_begin_; ///< state at the step's start (reset_step)
+      std::vector<double>           d_beam_begin_;
+      multigrid::BlockSystem        system_;  ///< the last linearization
     };
 
     BeamSolidProblem::BeamSolidProblem(const BeamSolidParameters& p, MPI_Comm comm)
@@ -117,6 +133,7 @@ namespace physics::beam_solid
         , rank_(Utilities::MPI::this_mpi_process(comm))
         , n_ranks_(Utilities::MPI::n_mpi_processes(comm))
         , pcout_(std::cout, rank_ == 0)
+        , timer_(pcout_, TimerOutput::never, TimerOutput::wall_times)
         , tria_(comm, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis)
         , fe_(FE_Q<3>(1), 3)
         , dof_handler_(tria_)
@@ -125,7 +142,8 @@ namespace physics::beam_solid
 
     void BeamSolidProblem::setup()
     {
-      std::filesystem::create_directories(p_.output_directory);
+      TimerOutput::Scope scope(timer_, "setup");
+      prepare_output_directory(p_.output_directory, comm_);
       // Box with boundary ids 0..5 (x-, x+, y-, y+, z-, z+).
       GridGenerator::subdivided_hyper_rectangle(tria_, {static_cast<unsigned>(p_.cells[0]),
                                                         static_cast<unsigned>(p_.cells[1]),
@@ -194,7 +212,7 @@ namespace physics::beam_solid
       u_ghosted_.reinit(owned_, ghosts_, comm_);
       if (rank_ == 0)
         log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
-      solid_pvd_ = std::make_unique<PvdSeries>(p_.output_directory + "/solid.pvd");
+      solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solid", comm_);
       beam_pvd_  = std::make_unique<PvdSeries>(p_.output_directory + "/beams.pvd");
       pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells, " << dof_handler_.n_dofs()
              << " solid DOFs, beams with " << beam_.elements.size()
@@ -339,99 +357,86 @@ namespace physics::beam_solid
       system.block(1).nullspace = multigrid::rigid_body_modes(system.block(1).map, 3, xyz);
     }
 
+    void BeamSolidProblem::begin_step(double time, double /*step*/)
+    {
+      load_factor_  = time;
+      u_begin_      = u_;
+      d_beam_begin_ = d_beam_;
+    }
+
+    void BeamSolidProblem::reset_step()
+    {
+      u_      = u_begin_;
+      d_beam_ = d_beam_begin_;
+    }
+
+    Linearization BeamSolidProblem::linearize(int /*iteration*/)
+    {
+      system_ = assemble(load_factor_);
+      Linearization result;
+      result.system         = &system_;
+      result.residual_norms = system_.block_norms(*system_.rhs());
+      return result;
+    }
+
+    void BeamSolidProblem::update(const multigrid::MultiVector& dx, double step_length)
+    {
+      // Solid into u, beam into the replicated beam vector.
+      const GO            n_beam = beam_.n_dofs();
+      const auto          data   = dx.getData(0);
+      const auto          map    = dx.getMap();
+      std::vector<double> d_beam(n_beam, 0.0);
+      TrilinosWrappers::MPI::Vector du(owned_, comm_);
+      for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
+        {
+          const GO g = map->getGlobalElement(i);
+          if (g < n_beam)
+            d_beam[g] = step_length * data[i];
+          else
+            du[g - n_beam] = step_length * data[i];
+        }
+      du.compress(VectorOperation::insert);
+      u_ += du;
+      MPI_Allreduce(MPI_IN_PLACE, d_beam.data(), static_cast<int>(d_beam.size()), MPI_DOUBLE, MPI_SUM, comm_);
+      for (GO k = 0; k < n_beam; ++k)
+        d_beam_[k] += d_beam[k];
+    }
+
     BeamSolidRunSummary BeamSolidProblem::run()
     {
       setup();
+      NewtonSettings newton_settings   = p_.solver.newton_settings(field_names());
+      newton_settings.export_systems   = p_.export_systems;
+      newton_settings.export_directory = p_.output_directory + "/systems";
+      NewtonSolver      newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_, timer_,
+                               comm_);
+      const StepsResult result = run_steps(*this, p_.solver.step_settings(1.0, 1.0 / p_.load_steps), newton, log_, pcout_);
+
       BeamSolidRunSummary summary;
       summary.beam_dofs       = beam_.n_dofs();
       summary.solid_dofs      = dof_handler_.n_dofs();
       summary.coupling_points = coupling_->n_points();
-      const multigrid::Preset       preset  = p_.solver.load_preset();
-      const multigrid::SolveOptions options = p_.solver.solve_options();
-      const GO n_beam        = beam_.n_dofs();
-
-      pcout_ << "  step newton   |residual|    |r_beam|    |r_solid|   GMRES  setup[s] solve[s]\n";
-      for (int step = 1; step <= p_.load_steps; ++step)
+      summary.converged       = result.converged;
+      summary.step_cuts       = result.cuts;
+      summary.failure         = result.failure;
+      for (const auto& n : result.newton)
         {
-          const double load_factor = static_cast<double>(step) / p_.load_steps;
-          double       r0          = 0;
-          bool         converged   = false;
-          summary.residuals.emplace_back();
-          for (int it = 0; it <= p_.solver.newton_max_iterations; ++it)
-            {
-              Timer        assembly_timer;
-              auto         system           = assemble(load_factor);
-              const double assembly_seconds = assembly_timer.wall_time();
-              const auto   norms            = system.block_norms(*system.rhs());
-              const double norm             = std::hypot(norms[0], norms[1]);
-              if (it == 0)
-                r0 = norm;
-              summary.residuals.back().push_back(norm);
-              converged = it > 0 && (norm <= p_.solver.newton_relative_tolerance * r0 || norm <= p_.solver.newton_absolute_tolerance);
-              JsonLinesLog::Line line;
-              line.add("load_step", step).add("newton", it).add("residual", norm).add("relative_residual", norm / r0)
-                  .add("residual_beam", norms[0]).add("residual_solid", norms[1]).add("converged", converged)
-                  .add("assembly_seconds", assembly_seconds);
-              pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
-                     << std::setw(13) << norm << std::setw(12) << norms[0] << std::setw(12) << norms[1]
-                     << std::defaultfloat;
-              if (converged || it == p_.solver.newton_max_iterations)
-                {
-                  pcout_ << "\n";
-                  log_.write(line);
-                  break;
-                }
-              if (p_.export_systems)
-                multigrid::write_block_system(system, p_.output_directory + "/systems/step" + std::to_string(step) +
-                                                          "-newton" + std::to_string(it));
-              multigrid::BlockPreconditioner preconditioner(system, preset);
-              auto x = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(system.full_map(), 1, true);
-              const auto report = multigrid::solve(system, preconditioner, *x, options);
-              summary.linear_iterations.push_back(report.iterations);
-              summary.setup_seconds += report.preconditioner.setup_seconds;
-              summary.solve_seconds += report.solve_seconds;
-              report_linear_solve(report, line, pcout_, comm_);
-              log_.write(line);
-              // A preconditioner that does not reduce the residual at all gives no usable Newton
-              // direction: stop here instead of applying it.
-              if (!(report.relative_residual < 1.0))
-                {
-                  pcout_ << "GMRES made no progress (relative residual " << report.relative_residual
-                         << "); stopping Newton\n";
-                  break;
-                }
-
-              // Updates: solid into u, beam into the replicated beam vector.
-              const auto          data = x->getData(0);
-              const auto          map  = x->getMap();
-              std::vector<double> d_beam(n_beam, 0.0);
-              TrilinosWrappers::MPI::Vector du(owned_, comm_);
-              for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
-                {
-                  const GO g = map->getGlobalElement(i);
-                  if (g < n_beam)
-                    d_beam[g] = data[i];
-                  else
-                    du[g - n_beam] = data[i];
-                }
-              du.compress(VectorOperation::insert);
-              u_ += du;
-              MPI_Allreduce(MPI_IN_PLACE, d_beam.data(), static_cast<int>(d_beam.size()), MPI_DOUBLE, MPI_SUM, comm_);
-              for (GO k = 0; k < n_beam; ++k)
-                d_beam_[k] += d_beam[k];
-            }
-          summary.newton_iterations.push_back(static_cast<int>(summary.residuals.back().size()) - 1);
-          if (p_.vtk)
-            write_output(step);
-          if (!converged)
-            {
-              summary.converged = false;
-              pcout_ << "Newton did not converge in load step " << step << "\n";
-              break;
-            }
+          summary.newton_iterations.push_back(n.iterations);
+          summary.residuals.push_back(n.residuals);
+          summary.linear_iterations.insert(summary.linear_iterations.end(), n.linear_iterations.begin(),
+                                           n.linear_iterations.end());
+          summary.setup_seconds += n.setup_seconds;
+          summary.solve_seconds += n.solve_seconds;
         }
+      if (!result.converged)
+        pcout_ << "Newton did not converge in load step " << result.steps + 1 << ": " << result.failure << "\n";
+      final_state(summary);
+      log_timer_summary(timer_, log_, std::cout, rank_ == 0, comm_);
+      return summary;
+    }
 
-      // Final state.
+    void BeamSolidProblem::final_state(BeamSolidRunSummary& summary)
+    {
       u_ghosted_ = u_;
       double gap = 0;
       for (const auto& g : coupling_->gaps(d_beam_, u_ghosted_))
@@ -453,29 +458,20 @@ namespace physics::beam_solid
       // (vertices are counted once per adjacent cell; the mean is unaffected on a uniform grid)
       summary.mean_end_displacement = Utilities::MPI::sum(sum, comm_) / Utilities::MPI::sum(count, comm_);
       summary.beam_displacement     = d_beam_;
-      return summary;
     }
 
-    void BeamSolidProblem::write_output(int step)
+    void BeamSolidProblem::write_output(int step, double /*time*/, bool /*last*/)
     {
+      if (!p_.vtk)
+        return;
+      TimerOutput::Scope scope(timer_, "output");
       u_ghosted_ = u_;
-      std::vector<Vector<float>> sigma;
-      Vector<float>              von_mises, partition(tria_.n_active_cells());
-      cell_cauchy_stress(dof_handler_, model_, u_ghosted_, sigma, von_mises);
-      for (const auto& cell : tria_.active_cell_iterators())
-        partition(cell->active_cell_index()) = cell->subdomain_id();
       DataOut<3> out;
       out.attach_dof_handler(dof_handler_);
-      out.add_data_vector(u_ghosted_, std::vector<std::string>(3, "displacement"), DataOut<3>::type_dof_data,
-                          std::vector<DataComponentInterpretation::DataComponentInterpretation>(
-                              3, DataComponentInterpretation::component_is_part_of_vector));
-      out.add_data_vector(von_mises, "von_mises", DataOut<3>::type_cell_data);
-      out.add_data_vector(partition, "partition", DataOut<3>::type_cell_data);
-      out.set_cell_selection([](const typename Triangulation<3>::cell_iterator& cell) {
-        return cell->is_active() && cell->is_locally_owned();
-      });
+      SolidOutputFields<3> solid;
+      solid.attach(out, dof_handler_, model_, u_ghosted_);
       out.build_patches();
-      const std::string pvtu = out.write_vtu_with_pvtu_record(p_.output_directory + "/", "solid", step, comm_, 4);
+      solid_vtk_->write(out, step, step);
       // Beams (rank 0 has every beam DOF): line cells with displacement and the coupling force
       // per unit length, lambda_j = eps / kappa_j g_j.
       const auto gaps = coupling_->gaps(d_beam_, u_ghosted_);
@@ -487,7 +483,6 @@ namespace physics::beam_solid
               line_load[j][c] = coupling_->kappa()[j] > 0 ? p_.penalty / coupling_->kappa()[j] * gaps[j][c] : 0.0;
           const std::string name = "beams_" + Utilities::int_to_string(step, 4) + ".vtu";
           write_beam_vtu(beam_, d_beam_, line_load, p_.output_directory + "/" + name);
-          solid_pvd_->add(step, pvtu);
           beam_pvd_->add(step, name);
         }
     }

@@ -45,6 +45,10 @@ namespace physics::beam_solid
     std::string output_directory = "output/beam_solid";
     bool        vtk = true, export_systems = false;
 
+    /// The residual fields Newton checks separately (Newton subsections of the same names):
+    /// generalized forces on the beam DOFs (positions and tangents), forces on the solid DOFs.
+    static std::vector<std::string> residual_fields() { return {"beam", "solid"}; }
+
     static void declare(dealii::ParameterHandler& prm);
     /// Reads and checks every value; throws std::invalid_argument "parameter 'X': ...".
     void parse(dealii::ParameterHandler& prm);
@@ -53,6 +57,8 @@ namespace physics::beam_solid
   struct BeamSolidRunSummary
   {
     bool                             converged = true;
+    int                              step_cuts = 0;      ///< failed attempts, each retried with half the step
+    std::string                      failure;            ///< why the run stopped (empty: it finished)
     std::vector<int>                 newton_iterations;  ///< per load step
     std::vector<int>                 linear_iterations;  ///< per Newton step
     std::vector<std::vector<double>> residuals;          ///< per load step

@@ -14,7 +14,8 @@ namespace physics
   SolidDynamics<dim>::SolidDynamics(double spectral_radius, double time_step, const DoFHandler<dim>& dof_handler,
                                     const SolidModel<dim>& model, const IndexSet& owned, const IndexSet& relevant,
                                     MPI_Comm comm)
-      : scheme_(spectral_radius, time_step)
+      : spectral_radius_(spectral_radius)
+      , scheme_(spectral_radius, time_step)
       , dof_handler_(dof_handler)
       , model_(model)
       , owned_(owned)

@@ -27,6 +27,9 @@ namespace physics
                   MPI_Comm comm);
 
     const GeneralizedAlpha& scheme() const { return scheme_; }
+    /// A new time step for the next begin_step() (a cut or regrown step of the step driver):
+    /// the method's parameters depend on the spectral radius only, its weights also on dt.
+    void set_time_step(double time_step) { scheme_ = GeneralizedAlpha(spectral_radius_, time_step); }
     ResidualWeights         weights() const { return {scheme_.force_weight(), scheme_.mass_coefficient()}; }
     /// Initial velocity (set entries, then compress(insert)).
     dealii::TrilinosWrappers::MPI::Vector& velocity() { return v_; }
@@ -52,6 +55,7 @@ namespace physics
     void residual(const dealii::TrilinosWrappers::MPI::Vector& u, const dealii::AffineConstraints<double>& constraints,
                   dealii::TrilinosWrappers::MPI::Vector& r) const;
 
+    double                                spectral_radius_;
     GeneralizedAlpha                      scheme_;
     const dealii::DoFHandler<dim>&        dof_handler_;
     const SolidModel<dim>&                model_;

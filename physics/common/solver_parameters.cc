@@ -6,27 +6,78 @@
 #include <deal.II/base/utilities.h>
 
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 namespace physics
 {
   using dealii::Patterns::Anything;
+  using dealii::Patterns::Bool;
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
 
-  void SolverParameters::declare(dealii::ParameterHandler& prm) const
+  namespace
   {
-    const auto text = [](auto v) { // shortest form: "1e-12", not 9.9999999999999998e-13
+    std::string text(double v) // shortest form: "1e-12", not 9.9999999999999998e-13
+    {
       std::ostringstream out;
       out << v;
       return out.str();
-    };
+    }
+
+    /// A per-field tolerance entry: empty (use the section's value) or a number in range.
+    std::optional<double> optional_tolerance(const std::string& value, const std::string& name, bool relative)
+    {
+      if (value.empty())
+        return std::nullopt;
+      const double v = parameters::numbers(value, name, 1)[0];
+      if (relative)
+        return parameters::tolerance(v, "'" + name + "'");
+      if (!(v >= 0))
+        throw std::invalid_argument("parameter '" + name + "': expected a value >= 0, got " + value);
+      return v;
+    }
+  } // namespace
+
+  void SolverParameters::declare(dealii::ParameterHandler& prm, const std::vector<std::string>& fields) const
+  {
     prm.enter_subsection("Newton");
     prm.declare_entry("Relative tolerance", text(newton_relative_tolerance), Double(),
-                      "||r|| / ||r_0|| per load step (0 < tol < 1).");
+                      "Each residual field converges when ||r_f|| <= this x the largest ||r_f|| of the step's "
+                      "iterates (0 < tol < 1), unless its subsection below sets its own.");
     prm.declare_entry("Absolute tolerance", text(newton_absolute_tolerance), Double(),
-                      "||r|| below this also counts as converged (>= 0).");
-    prm.declare_entry("Maximum iterations", text(newton_max_iterations), Integer(1, 1000), "Newton steps per load step.");
+                      "... or when ||r_f|| <= this (>= 0), unless its subsection below sets its own.");
+    prm.declare_entry("Maximum iterations", text(newton_max_iterations), Integer(1, 1000),
+                      "Newton steps per load/time step; more is a failed step (cut, see Step control).");
+    prm.declare_entry("Divergence factor", text(divergence_factor), Double(),
+                      "A field whose residual grows beyond this factor times max(its largest norm since the first "
+                      "update, absolute / relative tolerance) has diverged: the step fails and is cut (> 1).");
+    prm.declare_entry("Line search", line_search ? "true" : "false", Bool(),
+                      "Backtracking: halve the update while the scaled merit function sum_f (||r_f|| / s_f)^2 "
+                      "does not decrease (s_f: the field's largest norm of the step).");
+    prm.declare_entry("Line search steps", text(line_search_steps), Integer(1, 30),
+                      "Halvings of one update at most (the last trial is kept).");
+    for (const auto& field : fields)
+      {
+        prm.enter_subsection(field);
+        prm.declare_entry("Relative tolerance", "", Anything(),
+                          "Relative tolerance of the '" + field + "' residual (empty: the section's).");
+        prm.declare_entry("Absolute tolerance", "", Anything(),
+                          "Absolute tolerance of the '" + field + "' residual (empty: the section's).");
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Step control");
+    prm.declare_entry("Maximum step cuts", text(max_step_cuts), Integer(0, 60),
+                      "A failed load/time step (Newton diverged or ran out of iterations, a failed linear solve, "
+                      "an inverted element, a non-finite residual) is retried with half the step, at most this "
+                      "many times in a row; 0: a failure stops the run.");
+    prm.declare_entry("Minimum step fraction", text(minimum_step_fraction), Double(),
+                      "No cut below this fraction of the nominal step (0 < f <= 1).");
+    prm.declare_entry("Growth after", text(growth_after), Integer(0, 1000),
+                      "After this many converged steps in a row a cut step is doubled again, up to the nominal "
+                      "step (0: never).");
     prm.leave_subsection();
 
     prm.enter_subsection("Linear solver");
@@ -38,16 +89,46 @@ namespace physics
     prm.declare_entry("Tolerance", text(linear_tolerance), Double(), "GMRES relative residual (0 < tol < 1).");
     prm.declare_entry("Maximum iterations", text(linear_max_iterations), Integer(1, 100000), "GMRES iterations.");
     prm.declare_entry("Restart", text(restart), Integer(1, 10000), "GMRES restart length.");
+    prm.declare_entry("Accepted residual", text(accepted_linear_residual), Double(),
+                      "A GMRES solve that stops unconverged is still used (inexact Newton) when its true "
+                      "relative residual is at most this; above it (or on a breakdown) the step fails and is "
+                      "cut (0 < value < 1).");
     prm.leave_subsection();
   }
 
-  void SolverParameters::parse(dealii::ParameterHandler& prm)
+  void SolverParameters::parse(dealii::ParameterHandler& prm, const std::vector<std::string>& fields)
   {
     prm.enter_subsection("Newton");
     newton_relative_tolerance =
         parameters::tolerance(prm.get_double("Relative tolerance"), "'Relative tolerance' (Newton)");
     newton_absolute_tolerance = prm.get_double("Absolute tolerance");
-    newton_max_iterations     = prm.get_integer("Maximum iterations");
+    if (!(newton_absolute_tolerance >= 0))
+      throw std::invalid_argument("parameter 'Absolute tolerance' (Newton): expected a value >= 0");
+    newton_max_iterations = prm.get_integer("Maximum iterations");
+    divergence_factor     = prm.get_double("Divergence factor");
+    if (!(divergence_factor > 1))
+      throw std::invalid_argument("parameter 'Divergence factor': expected a value > 1, got " + text(divergence_factor));
+    line_search       = prm.get_bool("Line search");
+    line_search_steps = prm.get_integer("Line search steps");
+    field_tolerances.clear();
+    for (const auto& field : fields)
+      {
+        prm.enter_subsection(field);
+        const auto relative = optional_tolerance(prm.get("Relative tolerance"), "Newton/" + field + "/Relative tolerance", true);
+        const auto absolute = optional_tolerance(prm.get("Absolute tolerance"), "Newton/" + field + "/Absolute tolerance", false);
+        prm.leave_subsection();
+        if (relative || absolute)
+          field_tolerances[field] = {absolute.value_or(newton_absolute_tolerance), relative.value_or(newton_relative_tolerance)};
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Step control");
+    max_step_cuts         = prm.get_integer("Maximum step cuts");
+    minimum_step_fraction = prm.get_double("Minimum step fraction");
+    if (!(minimum_step_fraction > 0 && minimum_step_fraction <= 1))
+      throw std::invalid_argument("parameter 'Minimum step fraction': expected 0 < f <= 1, got " +
+                                  text(minimum_step_fraction));
+    growth_after = prm.get_integer("Growth after");
     prm.leave_subsection();
 
     prm.enter_subsection("Linear solver");
@@ -56,7 +137,38 @@ namespace physics
     linear_tolerance      = parameters::tolerance(prm.get_double("Tolerance"), "'Tolerance' (Linear solver)");
     linear_max_iterations = prm.get_integer("Maximum iterations");
     restart               = prm.get_integer("Restart");
+    accepted_linear_residual =
+        parameters::tolerance(prm.get_double("Accepted residual"), "'Accepted residual' (Linear solver)");
     prm.leave_subsection();
+  }
+
+  NewtonSettings SolverParameters::newton_settings(const std::vector<std::string>& fields) const
+  {
+    NewtonSettings s;
+    s.max_iterations           = newton_max_iterations;
+    s.divergence_factor        = divergence_factor;
+    s.line_search              = line_search;
+    s.line_search_steps        = line_search_steps;
+    s.accepted_linear_residual = accepted_linear_residual;
+    for (const auto& field : fields)
+      {
+        const auto it = field_tolerances.find(field);
+        s.tolerances.push_back(it != field_tolerances.end()
+                                   ? it->second
+                                   : FieldTolerance{newton_absolute_tolerance, newton_relative_tolerance});
+      }
+    return s;
+  }
+
+  StepSettings SolverParameters::step_settings(double end_time, double step) const
+  {
+    StepSettings s;
+    s.end_time     = end_time;
+    s.step         = step;
+    s.minimum_step = minimum_step_fraction * step;
+    s.max_cuts     = max_step_cuts;
+    s.growth_after = growth_after;
+    return s;
   }
 
   multigrid::Preset SolverParameters::load_preset() const

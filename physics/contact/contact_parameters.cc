@@ -82,7 +82,7 @@ namespace physics::contact
                       "Face bounding boxes are enlarged by this times the face size (>= 0).");
     prm.leave_subsection();
 
-    ContactParameters().solver.declare(prm);
+    ContactParameters().solver.declare(prm, residual_fields());
 
     prm.enter_subsection("Output");
     prm.declare_entry("Directory", "output/contact", Anything(),
@@ -179,7 +179,7 @@ namespace physics::contact
       throw std::invalid_argument("parameter 'Search radius factor': expected a value >= 0");
     prm.leave_subsection();
 
-    solver.parse(prm);
+    solver.parse(prm, residual_fields());
 
     prm.enter_subsection("Output");
     output_directory = prm.get("Directory");

@@ -1,17 +1,14 @@
 #include "contact/contact_problem.h"
 
 #include "common/mesh_input.h"
+#include "common/newton_solver.h"
+#include "common/run_directory.h"
 #include "common/run_output.h"
-#include "common/solid_mechanics.h"
 #include "common/solid_dynamics.h"
+#include "common/solid_mechanics.h"
+#include "common/step_driver.h"
+#include "common/vtk_output.h"
 #include "contact/contact_block_system.h"
-
-#include "block_preconditioner.h"
-#include "block_system_io.h"
-#include "krylov_solver.h"
-#include "presets.h"
-
-#include <Xpetra_MultiVectorFactory.hpp>
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
@@ -38,11 +35,24 @@ namespace physics::contact
   namespace
   {
     template <int dim>
-    class ContactProblem
+    class ContactProblem : public SteppedProblem
     {
     public:
       ContactProblem(const ContactParameters& p, MPI_Comm comm);
       ContactRunSummary run();
+
+      // The nonlinear problem of one load/time step (common/newton_solver.h, step_driver.h).
+      std::vector<std::string> field_names() const override { return ContactParameters::residual_fields(); }
+      Linearization            linearize(int iteration) override;
+      /// Semi-smooth Newton: an iterate counts only when its evaluation left the active set as it was.
+      bool        may_converge() const override { return !active_set_changed_; }
+      void        update(const multigrid::MultiVector& dx, double step_length) override;
+      void        describe(JsonLinesLog::Line& line, std::ostream& console) const override;
+      std::string console_header() const override { return "   active  changed"; }
+      void        begin_step(double time, double step) override;
+      void        reset_step() override;
+      void        end_step(int number, double time) override;
+      void        write_output(int number, double time, bool last) override;
 
     private:
       void setup();
@@ -51,14 +61,21 @@ namespace physics::contact
       /// of the prescribed values as inhomogeneity (so the increment is spread by the solve
       /// instead of being imposed on one layer of elements).
       AffineConstraints<double> increment_constraints() const;
+      /// The constrained rows of the first update only say du_i = increment_i and their columns
+      /// were eliminated by the lifting: they are taken out of the Krylov solve (zero right-hand
+      /// side there) and set to their targets in update(). AMG hierarchies see the same operator,
+      /// but no longer a right-hand side concentrated on decoupled rows.
+      void lift_prescribed_rows();
       std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
-      void write_output(int step, double time);
+      /// Active-set bookkeeping of the last evaluation against the previous one of this step.
+      void count_active_set();
+      void final_state(ContactRunSummary& summary);
 
       // Dynamics (generalized-alpha; see common/solid_dynamics.h).
       /// Mass matrix, initial velocity of the slave body, initial acceleration.
       void setup_dynamics();
-      /// After convergence: v_{n+1}, a_{n+1}, the contact force of t_{n+1}, energies.
-      void end_time_step(int step, double time, ContactRunSummary& summary);
+      /// The energies of the current state (a log line and the summary).
+      void log_energies(int step, double time);
       /// Contact forces at the generalized midpoint: (1 - af) (this step) + af (previous step).
       void weight_contact_forces(ContactContribution& contribution);
 
@@ -66,6 +83,7 @@ namespace physics::contact
       MPI_Comm                 comm_;
       const unsigned int       rank_;
       ConditionalOStream       pcout_;
+      TimerOutput              timer_;
 
       parallel::shared::Triangulation<dim> tria_;
       FESystem<dim>                        fe_;
@@ -87,7 +105,18 @@ namespace physics::contact
       TrilinosWrappers::MPI::Vector u_, u_ghosted_;
       std::vector<double>           lambda_;
       JsonLinesLog                  log_;
-      std::unique_ptr<PvdSeries>    pvd_;
+      std::unique_ptr<VtkSeries>    vtk_;
+      ContactRunSummary             summary_;
+
+      // The step in progress
+      double                        time_ = 0, load_factor_ = 0;
+      TrilinosWrappers::MPI::Vector u_begin_;      ///< state at the step's start (reset_step)
+      std::vector<double>           lambda_begin_;
+      std::vector<bool>             previous_active_; ///< of the previous evaluation in this step
+      int                           n_active_ = 0, n_changed_ = 0;
+      bool                          active_set_changed_ = true;
+      ContactLinearSystem           linear_;      ///< the last linearization
+      std::map<std::size_t, double> lifted_;      ///< local row -> prescribed target (first update)
     };
 
     template <int dim>
@@ -96,6 +125,7 @@ namespace physics::contact
         , comm_(comm)
         , rank_(Utilities::MPI::this_mpi_process(comm))
         , pcout_(std::cout, rank_ == 0)
+        , timer_(pcout_, TimerOutput::never, TimerOutput::wall_times)
         , tria_(comm, Triangulation<dim>::none, false, parallel::shared::Triangulation<dim>::partition_metis)
         , fe_(FE_Q<dim>(1), dim)
         , dof_handler_(tria_)
@@ -105,7 +135,8 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::setup()
     {
-      std::filesystem::create_directories(p_.output_directory);
+      TimerOutput::Scope scope(timer_, "setup");
+      prepare_output_directory(p_.output_directory, comm_);
       read_mesh(p_.mesh_file, p_.gmsh_refinement, p_.output_directory, tria_, comm_);
       tria_.refine_global(p_.global_refinements);
 
@@ -237,7 +268,7 @@ namespace physics::contact
 
       if (rank_ == 0)
         log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
-      pvd_ = std::make_unique<PvdSeries>(p_.output_directory + "/solution.pvd");
+      vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solution", comm_);
       pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells, "
              << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_slave_nodes()
              << " multipliers (" << (p_.dual ? "dual" : "standard") << "), " << Utilities::MPI::n_mpi_processes(comm_)
@@ -285,18 +316,13 @@ namespace physics::contact
     }
 
     template <int dim>
-    void ContactProblem<dim>::end_time_step(int step, double time, ContactRunSummary& summary)
+    void ContactProblem<dim>::log_energies(int step, double time)
     {
-      if (step > 0)
-        {
-          dynamics_->end_step(u_);
-          contact_force_old_ = contact_force_new_; // the converged state's (last evaluation)
-        }
       u_ghosted_           = u_;
       const double kinetic = dynamics_->kinetic_energy(), strain = strain_energy(dof_handler_, model_, u_ghosted_);
-      summary.time.push_back(time);
-      summary.kinetic_energy.push_back(kinetic);
-      summary.strain_energy.push_back(strain);
+      summary_.time.push_back(time);
+      summary_.kinetic_energy.push_back(kinetic);
+      summary_.strain_energy.push_back(strain);
       JsonLinesLog::Line line;
       line.add("time_step", step).add("time", time).add("kinetic_energy", kinetic).add("strain_energy", strain)
           .add("total_energy", kinetic + strain);
@@ -367,162 +393,183 @@ namespace physics::contact
     }
 
     template <int dim>
-    ContactRunSummary ContactProblem<dim>::run()
+    void ContactProblem<dim>::begin_step(double time, double step)
     {
-      setup();
-      ContactRunSummary summary;
-      auto              owner = [&](GlobalIndex row) -> unsigned int {
+      time_        = time;
+      load_factor_ = dynamics_ ? time / (p_.load_steps * p_.time_step) : time;
+      u_begin_     = u_;
+      lambda_begin_ = lambda_;
+      previous_active_.clear();
+      if (dynamics_)
+        {
+          dynamics_->set_time_step(step);
+          dynamics_->begin_step(u_, constraints_); // before the loads move on to t_{n+1}
+        }
+      set_prescribed_values(load_factor_);
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::reset_step()
+    {
+      u_      = u_begin_;
+      lambda_ = lambda_begin_;
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::count_active_set()
+    {
+      const auto& state = contact_->state();
+      n_active_ = n_changed_ = 0;
+      for (unsigned int j = 0; j < state.active.size(); ++j)
+        {
+          n_active_ += state.active[j];
+          n_changed_ += !previous_active_.empty() && previous_active_[j] != state.active[j];
+        }
+      active_set_changed_ = previous_active_.empty() || n_changed_ > 0;
+      previous_active_    = state.active;
+      summary_.active_set_sizes.push_back(n_active_);
+    }
+
+    template <int dim>
+    Linearization ContactProblem<dim>::linearize(int iteration)
+    {
+      u_ghosted_ = u_;
+      ContactContribution contribution;
+      {
+        TimerOutput::Scope scope(timer_, "contact evaluation");
+        contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), lambda_,
+                           [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, comm_, contribution);
+      }
+      if (dynamics_)
+        weight_contact_forces(contribution);
+      count_active_set();
+
+      TrilinosWrappers::SparseMatrix K;
+      K.reinit(owned_, owned_, structural_pattern_, comm_);
+      TrilinosWrappers::MPI::Vector  residual(owned_, comm_);
+      assemble_solid(dof_handler_, model_, u_ghosted_, iteration == 0 ? increment_constraints() : constraints_,
+                     residual, &K, dynamics_ ? dynamics_->weights() : ResidualWeights{});
+      if (dynamics_)
+        residual += dynamics_->history();
+      const auto owner = [&](GlobalIndex row) -> unsigned int {
         if (row >= dof_handler_.n_dofs())
           return contact_->slave_nodes()[(row - dof_handler_.n_dofs()) / dim].owner;
         return owning_rank(owned_per_rank_, row);
       };
-      auto is_constrained = [&](GlobalIndex dof) { return constraints_.is_constrained(dof); };
+      const auto rows = send_rows_to_owners(contribution.matrix, owner, comm_);
+      std::map<GlobalIndex, double> pieces = contribution.residual;
+      for (const auto& [row, value] : contribution.constraint_residual)
+        pieces[row] += value;
+      pieces  = send_entries_to_owners(pieces, owner, comm_);
+      linear_ = build_contact_system<dim>(comm_, owned_nodes_, *contact_, owned_, ghosts_, K, residual, rows, pieces);
 
-      const multigrid::Preset       preset  = p_.solver.load_preset();
-      const multigrid::SolveOptions options = p_.solver.solve_options();
+      Linearization result;
+      result.system         = &linear_.system;
+      result.residual_norms = linear_.system.block_norms(*linear_.system.rhs());
+      lifted_.clear();
+      if (iteration == 0)
+        lift_prescribed_rows();
+      return result;
+    }
 
-      TrilinosWrappers::SparseMatrix K;
-      TrilinosWrappers::MPI::Vector  residual(owned_, comm_), du(owned_, comm_);
-      if (dynamics_)
-        end_time_step(0, 0.0, summary); // the initial state's energies
-      pcout_ << "  step newton   |residual|     |r_u|      |r_lambda|   active  changed  GMRES  setup[s] solve[s]\n";
-      const ResidualWeights weights = dynamics_ ? dynamics_->weights() : ResidualWeights{};
-      for (int step = 1; step <= p_.load_steps; ++step)
+    template <int dim>
+    void ContactProblem<dim>::lift_prescribed_rows()
+    {
+      auto b = linear_.system.rhs()->getDataNonConst(0);
+      for (std::size_t i = 0; i < linear_.assembly_index.size(); ++i)
         {
-          const double load_factor = static_cast<double>(step) / p_.load_steps;
-          // Pseudo-time = load factor (quasi-static), physical time (dynamics).
-          const double time = dynamics_ ? step * p_.time_step : load_factor;
-          if (dynamics_)
-            dynamics_->begin_step(u_, constraints_); // before the loads move on to t_{n+1}
-          set_prescribed_values(load_factor);
-          double            r0 = 0;
-          std::vector<bool> previous_active;
-          bool              converged = false;
-          summary.residuals.emplace_back();
-          for (int it = 0; it <= p_.solver.newton_max_iterations; ++it)
+          const GlobalIndex a = linear_.assembly_index[i];
+          if (a < dof_handler_.n_dofs() && constraints_.is_constrained(a))
             {
-              Timer assembly_timer;
-              u_ghosted_ = u_;
-              ContactContribution contribution;
-              contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), lambda_,
-                                 is_constrained, comm_, contribution);
-              if (dynamics_)
-                weight_contact_forces(contribution);
-              const auto& state = contact_->state();
-              int         n_active = 0, n_changed = 0;
-              for (unsigned int j = 0; j < state.active.size(); ++j)
-                {
-                  n_active += state.active[j];
-                  n_changed += !previous_active.empty() && previous_active[j] != state.active[j];
-                }
-              const bool set_changed = previous_active.empty() || n_changed > 0;
-              previous_active        = state.active;
-
-              K.reinit(owned_, owned_, structural_pattern_, comm_);
-              residual = 0;
-              assemble_solid(dof_handler_, model_, u_ghosted_, it == 0 ? increment_constraints() : constraints_,
-                             residual, &K, weights);
-              if (dynamics_)
-                residual += dynamics_->history();
-              const auto rows = send_rows_to_owners(contribution.matrix, owner, comm_);
-              std::map<GlobalIndex, double> pieces = contribution.residual;
-              for (const auto& [row, value] : contribution.constraint_residual)
-                pieces[row] += value;
-              pieces = send_entries_to_owners(pieces, owner, comm_);
-              auto linear = build_contact_system<dim>(comm_, owned_nodes_, *contact_, owned_, ghosts_, K, residual,
-                                                      rows, pieces);
-              const double assembly_seconds = assembly_timer.wall_time();
-              const auto   block_norms      = linear.system.block_norms(*linear.system.rhs());
-              const double norm = std::hypot(block_norms[0], block_norms[1]);
-              if (it == 0)
-                r0 = norm;
-              summary.residuals.back().push_back(norm);
-              summary.active_set_sizes.push_back(n_active);
-              converged = it > 0 && !set_changed &&
-                          (norm <= p_.solver.newton_relative_tolerance * r0 || norm <= p_.solver.newton_absolute_tolerance);
-
-              JsonLinesLog::Line line;
-              line.add("load_step", step).add("load_factor", load_factor).add("time", time).add("newton", it)
-                  .add("residual", norm)
-                  .add("relative_residual", r0 > 0 ? norm / r0 : 0.0).add("residual_displacement", block_norms[0])
-                  .add("residual_constraint", block_norms[1]).add("active", n_active).add("active_changed", n_changed)
-                  .add("converged", converged).add("assembly_seconds", assembly_seconds);
-              pcout_ << std::setw(6) << step << std::setw(7) << it << std::scientific << std::setprecision(3)
-                     << std::setw(13) << norm << std::setw(12) << block_norms[0] << std::setw(12) << block_norms[1]
-                     << std::defaultfloat << std::setw(8) << n_active << std::setw(9) << n_changed;
-              if (converged || it == p_.solver.newton_max_iterations)
-                {
-                  pcout_ << "\n";
-                  log_.write(line);
-                  break;
-                }
-
-              if (p_.export_systems)
-                multigrid::write_block_system(linear.system, p_.output_directory + "/systems/step" +
-                                                                 std::to_string(step) + "-newton" + std::to_string(it));
-              // The constrained rows of the first update only say du_i = increment_i and their
-              // columns were eliminated by the lifting: take them out of the Krylov solve (zero
-              // right-hand side there) and add the increments afterwards. AMG hierarchies see the
-              // same operator, but no longer a right-hand side concentrated on decoupled rows.
-              std::map<std::size_t, double> lifted;
-              if (it == 0)
-                {
-                  auto b = linear.system.rhs()->getDataNonConst(0);
-                  for (std::size_t i = 0; i < linear.assembly_index.size(); ++i)
-                    {
-                      const GlobalIndex a = linear.assembly_index[i];
-                      if (a < dof_handler_.n_dofs() && constraints_.is_constrained(a))
-                        {
-                          const auto   t      = prescribed_.find(a);
-                          const double target = t == prescribed_.end() ? 0.0 : t->second;
-                          lifted[i]           = target - u_[a];
-                          b[i]                = 0.0;
-                        }
-                    }
-                }
-              multigrid::BlockPreconditioner preconditioner(linear.system, preset);
-              auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
-                  linear.system.full_map(), 1, true);
-              const auto report = multigrid::solve(linear.system, preconditioner, *x, options);
-              summary.linear_iterations.push_back(report.iterations);
-              summary.setup_seconds += report.preconditioner.setup_seconds;
-              summary.linear_seconds += report.solve_seconds;
-              report_linear_solve(report, line, pcout_, comm_);
-              log_.write(line);
-
-              // Update u and lambda from the solution (assembly numbering).
-              const auto          data = x->getData(0);
-              std::vector<double> dlambda(lambda_.size(), 0.0);
-              du = 0;
-              for (std::size_t i = 0; i < linear.assembly_index.size(); ++i)
-                {
-                  const GlobalIndex a = linear.assembly_index[i];
-                  if (a < dof_handler_.n_dofs())
-                    du[a] = lifted.count(i) ? lifted[i] : data[i];
-                  else
-                    dlambda[a - dof_handler_.n_dofs()] = data[i];
-                }
-              du.compress(VectorOperation::insert);
-              u_ += du;
-              MPI_Allreduce(MPI_IN_PLACE, dlambda.data(), static_cast<int>(dlambda.size()), MPI_DOUBLE, MPI_SUM, comm_);
-              for (std::size_t k = 0; k < lambda_.size(); ++k)
-                lambda_[k] += dlambda[k];
-            }
-          summary.newton_iterations.push_back(static_cast<int>(summary.residuals.back().size()) - 1);
-          summary.load_steps_done = step;
-          if (dynamics_ && converged)
-            end_time_step(step, time, summary);
-          if (p_.vtk && (step % p_.vtk_interval == 0 || step == p_.load_steps || !converged))
-            write_output(step, time);
-          if (!converged)
-            {
-              summary.converged = false;
-              pcout_ << "Newton did not converge in load step " << step << "\n";
-              break;
+              const auto t = prescribed_.find(a);
+              lifted_[i]   = t == prescribed_.end() ? 0.0 : t->second;
+              b[i]         = 0.0;
             }
         }
+    }
 
-      // Final slave-side state for the caller.
+    template <int dim>
+    void ContactProblem<dim>::update(const multigrid::MultiVector& dx, double step_length)
+    {
+      // From the system's rows (assembly numbering) to u and lambda. Lifted rows go to their
+      // targets whatever the step length: a line search scales the Newton direction, not the
+      // prescribed boundary values.
+      const auto          data = dx.getData(0);
+      std::vector<double> dlambda(lambda_.size(), 0.0);
+      TrilinosWrappers::MPI::Vector du(owned_, comm_);
+      for (std::size_t i = 0; i < linear_.assembly_index.size(); ++i)
+        {
+          const GlobalIndex a = linear_.assembly_index[i];
+          if (a >= dof_handler_.n_dofs())
+            dlambda[a - dof_handler_.n_dofs()] = step_length * data[i];
+          else if (const auto lifted = lifted_.find(i); lifted != lifted_.end())
+            du[a] = lifted->second - u_[a];
+          else
+            du[a] = step_length * data[i];
+        }
+      du.compress(VectorOperation::insert);
+      u_ += du;
+      MPI_Allreduce(MPI_IN_PLACE, dlambda.data(), static_cast<int>(dlambda.size()), MPI_DOUBLE, MPI_SUM, comm_);
+      for (std::size_t k = 0; k < lambda_.size(); ++k)
+        lambda_[k] += dlambda[k];
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::describe(JsonLinesLog::Line& line, std::ostream& console) const
+    {
+      line.add("load_factor", load_factor_).add("active", n_active_).add("active_changed", n_changed_);
+      console << std::setw(9) << n_active_ << std::setw(9) << n_changed_;
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::end_step(int number, double time)
+    {
+      if (!dynamics_)
+        return;
+      dynamics_->end_step(u_);
+      contact_force_old_ = contact_force_new_; // the converged state's (last evaluation)
+      log_energies(number, time);
+    }
+
+    template <int dim>
+    ContactRunSummary ContactProblem<dim>::run()
+    {
+      setup();
+      if (dynamics_)
+        log_energies(0, 0.0); // the initial state's
+
+      NewtonSettings newton_settings  = p_.solver.newton_settings(field_names());
+      newton_settings.export_systems   = p_.export_systems;
+      newton_settings.export_directory = p_.output_directory + "/systems";
+      NewtonSolver newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_, timer_,
+                          comm_);
+      const StepSettings steps = dynamics_ ? p_.solver.step_settings(p_.load_steps * p_.time_step, p_.time_step)
+                                           : p_.solver.step_settings(1.0, 1.0 / p_.load_steps);
+      const StepsResult result = run_steps(*this, steps, newton, log_, pcout_);
+
+      summary_.converged       = result.converged;
+      summary_.load_steps_done = result.steps;
+      summary_.step_cuts       = result.cuts;
+      summary_.failure         = result.failure;
+      for (const auto& n : result.newton)
+        {
+          summary_.newton_iterations.push_back(n.iterations);
+          summary_.residuals.push_back(n.residuals);
+          summary_.linear_iterations.insert(summary_.linear_iterations.end(), n.linear_iterations.begin(),
+                                            n.linear_iterations.end());
+          summary_.setup_seconds += n.setup_seconds;
+          summary_.linear_seconds += n.solve_seconds;
+        }
+      if (!result.converged)
+        pcout_ << "Newton did not converge in load step " << result.steps + 1 << ": " << result.failure << "\n";
+      final_state(summary_);
+      log_timer_summary(timer_, log_, std::cout, rank_ == 0, comm_);
+      return summary_;
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::final_state(ContactRunSummary& summary)
+    {
       u_ghosted_ = u_;
       const auto& state = contact_->state();
       const auto  xs    = positions(contact_->slave_nodes());
@@ -537,16 +584,18 @@ namespace physics::contact
             ln += contact_->normal(j)[d] * lambda_[dim * j + d];
           summary.normal_pressure.push_back(ln);
         }
-      summary.weight = state.weight;
-      summary.active = state.active;
+      summary.weight           = state.weight;
+      summary.active           = state.active;
       summary.max_displacement = u_.linfty_norm();
       summary.displacement_l2  = u_.l2_norm();
-      return summary;
     }
 
     template <int dim>
-    void ContactProblem<dim>::write_output(int step, double time)
+    void ContactProblem<dim>::write_output(int step, double time, bool last)
     {
+      if (!p_.vtk || !(step % p_.vtk_interval == 0 || last))
+        return;
+      TimerOutput::Scope scope(timer_, "output");
       u_ghosted_ = u_;
       // Nodal contact fields on the slave nodes, stored in vectors of the displacement layout:
       // the multiplier vector, and (pressure, active flag, normalized gap) as separate scalars.
@@ -570,17 +619,12 @@ namespace physics::contact
       multiplier_g = multiplier;
       fields_g     = fields;
 
-      std::vector<Vector<float>> sigma;
-      Vector<float>              von_mises, partition(tria_.n_active_cells());
-      cell_cauchy_stress(dof_handler_, model_, u_ghosted_, sigma, von_mises);
-      for (const auto& cell : tria_.active_cell_iterators())
-        partition(cell->active_cell_index()) = cell->subdomain_id();
-
       DataOut<dim> out;
       out.attach_dof_handler(dof_handler_);
+      SolidOutputFields<dim> solid;
+      solid.attach(out, dof_handler_, model_, u_ghosted_);
       const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector_field(
           dim, DataComponentInterpretation::component_is_part_of_vector);
-      out.add_data_vector(u_ghosted_, std::vector<std::string>(dim, "displacement"), DataOut<dim>::type_dof_data, vector_field);
       TrilinosWrappers::MPI::Vector velocity;
       if (dynamics_)
         {
@@ -597,21 +641,8 @@ namespace physics::contact
       out.add_data_vector(fields_g, names, DataOut<dim>::type_dof_data,
                           std::vector<DataComponentInterpretation::DataComponentInterpretation>(
                               dim, DataComponentInterpretation::component_is_scalar));
-      const char* axes = "xyz";
-      for (unsigned int a = 0; a < dim; ++a)
-        for (unsigned int b = a; b < dim; ++b)
-          out.add_data_vector(sigma[a * dim + b], std::string("cauchy_stress_") + axes[a] + axes[b],
-                              DataOut<dim>::type_cell_data);
-      out.add_data_vector(von_mises, "von_mises", DataOut<dim>::type_cell_data);
-      out.add_data_vector(partition, "partition", DataOut<dim>::type_cell_data);
-      // Only the locally owned cells (parallel::shared: every rank has all cells).
-      out.set_cell_selection([](const typename Triangulation<dim>::cell_iterator& cell) {
-        return cell->is_active() && cell->is_locally_owned();
-      });
       out.build_patches();
-      const std::string pvtu = out.write_vtu_with_pvtu_record(p_.output_directory + "/", "solution", step, comm_, 4);
-      if (rank_ == 0)
-        pvd_->add(time, pvtu);
+      vtk_->write(out, step, time);
     }
   } // namespace
 

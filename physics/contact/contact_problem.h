@@ -51,6 +51,10 @@ namespace physics::contact
     int         vtk_interval = 1; ///< write VTK every this many steps (and the last)
 
     bool dynamic() const { return scheme == "generalized-alpha"; }
+    /// The residual fields Newton checks separately (Newton subsections of the same names):
+    /// forces on the displacement DOFs, and the contact constraints (weighted gaps of active
+    /// nodes, multipliers of inactive ones).
+    static std::vector<std::string> residual_fields() { return {"displacement", "constraint"}; }
 
     static void declare(dealii::ParameterHandler& prm);
     /// Reads and checks every value; throws std::invalid_argument "parameter 'X': ..." for values
@@ -61,12 +65,14 @@ namespace physics::contact
   /// What a run measured (for tests and the final summary).
   struct ContactRunSummary
   {
-    int                 load_steps_done = 0;
-    std::vector<int>    newton_iterations;           ///< per load step
+    int                 load_steps_done = 0;     ///< converged load/time steps
+    std::vector<int>    newton_iterations;           ///< per converged load step
     std::vector<int>    linear_iterations;           ///< per Newton step, all steps
     std::vector<std::vector<double>> residuals;      ///< per load step: residual norm per Newton step
     std::vector<int>    active_set_sizes;            ///< per Newton step
     bool                converged = true;
+    int                 step_cuts = 0;               ///< failed attempts, each retried with half the step
+    std::string         failure;                     ///< why the run stopped (empty: it finished)
     // Final state on the slave side (identical on every rank)
     std::vector<std::array<double, 3>> slave_positions; ///< current, padded with 0 in 2D
     std::vector<double>                normal_pressure; ///< lambda_n

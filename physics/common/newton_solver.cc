@@ -1,0 +1,254 @@
+#include "common/newton_solver.h"
+
+#include "common/solver_parameters.h"
+
+#include "block_preconditioner.h"
+#include "block_system_io.h"
+
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <deal.II/base/timer.h>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace physics
+{
+  NewtonSolver::NewtonSolver(NewtonSettings settings, multigrid::Preset preset, multigrid::SolveOptions options,
+                             JsonLinesLog& log, dealii::ConditionalOStream& console, dealii::TimerOutput& timer,
+                             MPI_Comm comm)
+      : settings_(std::move(settings))
+      , preset_(std::move(preset))
+      , options_(options)
+      , log_(log)
+      , console_(console)
+      , timer_(timer)
+      , comm_(comm)
+  {
+  }
+
+  const FieldTolerance& NewtonSolver::tolerance(std::size_t field) const
+  {
+    return field < settings_.tolerances.size() ? settings_.tolerances[field] : default_tolerance_;
+  }
+
+  void NewtonSolver::print_header(const NonlinearProblem& problem) const
+  {
+    console_ << "  step newton   |residual|";
+    for (const auto& name : problem.field_names())
+      console_ << std::setw(12) << ("|r_" + name.substr(0, 7) + "|");
+    console_ << problem.console_header() << "  GMRES  setup[s] solve[s]\n";
+  }
+
+  bool NewtonSolver::fields_converged(const std::vector<double>& norms, const std::vector<double>& reference) const
+  {
+    for (std::size_t f = 0; f < norms.size(); ++f)
+      if (!(norms[f] <= tolerance(f).absolute || norms[f] <= tolerance(f).relative * reference[f]))
+        return false;
+    return true;
+  }
+
+  std::string NewtonSolver::residual_failure(const std::vector<double>& norms, const std::vector<double>& reference,
+                                             const std::vector<std::string>& names) const
+  {
+    for (std::size_t f = 0; f < norms.size(); ++f)
+      {
+        std::ostringstream why;
+        if (!std::isfinite(norms[f]))
+          why << "the " << names[f] << " residual is not finite";
+        else if (!reference.empty() && norms[f] > settings_.divergence_factor * divergence_scale(reference[f], f))
+          why << "Newton diverged: the " << names[f] << " residual grew from " << reference[f] << " to " << norms[f];
+        if (!why.str().empty())
+          return why.str();
+      }
+    return "";
+  }
+
+  double NewtonSolver::divergence_scale(double reference, std::size_t field) const
+  {
+    // Growth is measured from at least the norm at which the relative tolerance stops
+    // mattering, tol_abs / tol_rel (a field may be near zero until then).
+    const auto& t = tolerance(field);
+    return std::max(reference, t.absolute / t.relative);
+  }
+
+  double NewtonSolver::merit(const std::vector<double>& norms, const std::vector<double>& reference) const
+  {
+    double phi = 0;
+    for (std::size_t f = 0; f < norms.size(); ++f)
+      {
+        const double s = std::max(reference[f], tolerance(f).absolute);
+        phi += (norms[f] / s) * (norms[f] / s);
+      }
+    return phi;
+  }
+
+  std::string NewtonSolver::solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
+                                         JsonLinesLog::Line& line, NewtonResult& result)
+  {
+    std::unique_ptr<multigrid::BlockPreconditioner> preconditioner;
+    try
+      {
+        dealii::TimerOutput::Scope scope(timer_, "preconditioner setup");
+        preconditioner = std::make_unique<multigrid::BlockPreconditioner>(system, preset_);
+      }
+    catch (const multigrid::InputError&)
+      {
+        throw; // a preset that cannot work is bad input, not a numerical failure
+      }
+    catch (const std::exception& e)
+      {
+        std::string what = e.what();
+        what             = what.substr(0, what.find('\n'));
+        console_ << "\n";
+        return "the preconditioner set-up failed (" + what.substr(0, 200) + ")";
+      }
+    multigrid::SolveReport report;
+    {
+      dealii::TimerOutput::Scope scope(timer_, "linear solve");
+      report = multigrid::solve(system, *preconditioner, dx, options_);
+    }
+    result.linear_iterations.push_back(report.iterations);
+    result.setup_seconds += report.preconditioner.setup_seconds;
+    result.solve_seconds += report.solve_seconds;
+    report_linear_solve(report, line, console_, comm_);
+    if (!report.failure.empty())
+      return "the linear solve failed: " + report.failure;
+    if (!report.converged && !(report.relative_residual <= settings_.accepted_linear_residual))
+      {
+        std::ostringstream why;
+        why << "the linear solve failed: GMRES stopped after " << report.iterations
+            << " iterations at a true relative residual of " << report.relative_residual << " (accepted: "
+            << settings_.accepted_linear_residual << ")";
+        return why.str();
+      }
+    return "";
+  }
+
+  NewtonResult NewtonSolver::solve(NonlinearProblem& problem, const std::function<void(JsonLinesLog::Line&)>& step_fields,
+                                   const std::string& export_prefix)
+  {
+    const auto               names = problem.field_names();
+    NewtonResult             result;
+    // largest: each field's largest norm of this step (the relative tolerances' reference);
+    // since_update: the largest after the first update, the reference of divergence (the first
+    // update applies the load increment, so a field may rise from zero to ordinary values
+    // there: contact constraints do when the gaps change).
+    std::vector<double>      largest, since_update;
+    double                   merit_before = 0, step_length = 1;
+    multigrid::RCP<multigrid::MultiVector> dx;
+
+    // One linearization with its log line started: returns false (result.failure set) if the
+    // assembly failed.
+    Linearization      lin;
+    JsonLinesLog::Line line;
+    double             combined = 0;
+    auto linearize = [&](int it) {
+      line = JsonLinesLog::Line();
+      step_fields(line);
+      line.add("newton", it);
+      dealii::Timer wall;
+      try
+        {
+          dealii::TimerOutput::Scope scope(timer_, "assembly");
+          lin = problem.linearize(it);
+        }
+      catch (const std::domain_error& e)
+        {
+          result.failure = std::string("the assembly failed: ") + e.what();
+          line.add("failure", result.failure);
+          log_.write(line);
+          return false;
+        }
+      const double seconds = wall.wall_time();
+      const auto&  norms   = lin.residual_norms;
+      if (it == 0)
+        largest = norms;
+      for (std::size_t f = 0; f < norms.size(); ++f)
+        largest[f] = std::max(largest[f], norms[f]);
+      combined = 0;
+      for (const double n : norms)
+        combined += n * n;
+      combined = std::sqrt(combined);
+      const double first_combined = result.residuals.empty() ? combined : result.residuals.front();
+      line.add("residual", combined).add("relative_residual", first_combined > 0 ? combined / first_combined : 0.0);
+      for (std::size_t f = 0; f < norms.size(); ++f)
+        line.add("residual_" + names[f], norms[f]);
+      line.add("assembly_seconds", seconds);
+      return true;
+    };
+    auto print_iterate = [&](int it) {
+      console_ << std::setw(6) << "" << std::setw(7) << it << std::scientific << std::setprecision(3) << std::setw(13)
+               << combined;
+      for (const double n : lin.residual_norms)
+        console_ << std::setw(12) << n;
+      console_ << std::defaultfloat;
+      std::ostringstream columns;
+      problem.describe(line, columns);
+      console_ << columns.str();
+    };
+
+    for (int it = 0;; ++it)
+      {
+        if (!linearize(it))
+          return result;
+        // Backtracking: take half of the last update back while the merit function grew.
+        for (int halving = 0; settings_.line_search && it > 0 && halving < settings_.line_search_steps &&
+                              std::isfinite(merit_before) && !(merit(lin.residual_norms, largest) < merit_before);
+             ++halving)
+          {
+            line.add("line_search_rejected", step_length);
+            log_.write(line);
+            problem.update(*dx, -0.5 * step_length);
+            step_length *= 0.5;
+            if (!linearize(it))
+              return result;
+            line.add("step_length", step_length);
+          }
+        result.residuals.push_back(combined);
+        print_iterate(it);
+
+        result.failure = residual_failure(lin.residual_norms, since_update, names);
+        if (it >= 1)
+          {
+            if (since_update.empty())
+              since_update = lin.residual_norms;
+            for (std::size_t f = 0; f < since_update.size(); ++f)
+              since_update[f] = std::max(since_update[f], lin.residual_norms[f]);
+          }
+        const bool converged     = result.failure.empty() && it > 0 && problem.may_converge() &&
+                               fields_converged(lin.residual_norms, largest);
+        if (result.failure.empty() && !converged && it == settings_.max_iterations)
+          result.failure = "no convergence in " + std::to_string(it) + " Newton steps";
+        line.add("converged", converged);
+        if (converged || !result.failure.empty())
+          {
+            if (!result.failure.empty())
+              line.add("failure", result.failure);
+            console_ << "\n";
+            log_.write(line);
+            result.converged = converged;
+            return result;
+          }
+
+        if (settings_.export_systems)
+          multigrid::write_block_system(*lin.system, settings_.export_directory + "/" + export_prefix + "-newton" +
+                                                         std::to_string(it));
+        dx = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
+            lin.system->full_map(), 1, true);
+        result.failure = solve_linear(*lin.system, *dx, line, result);
+        if (!result.failure.empty())
+          {
+            line.add("failure", result.failure);
+            log_.write(line);
+            return result;
+          }
+        log_.write(line);
+        merit_before = merit(lin.residual_norms, largest);
+        step_length  = 1;
+        problem.update(*dx, 1.0);
+        ++result.iterations;
+      }
+  }
+} // namespace physics

@@ -1,0 +1,161 @@
+// The Newton method every problem class of the project shares (contact, beam/solid; FSI and
+// multi-body contact next), in the shape of deal.II's step-44: each iteration reads as the
+// algorithm,
+//
+//   linearize (K, r per field)  ->  converged?  ->  solve K dx = -r  ->  x += alpha dx,
+//
+// and the problem class supplies only its physics (NonlinearProblem). What lives here once:
+//
+// - Convergence per field. A problem's residual consists of fields in different units (forces
+//   and weighted gaps in contact, forces and moments in beam/solid), so no single norm of the
+//   whole residual is meaningful. Field f has converged when
+//       ||r_f|| <= tol_abs,f    or    ||r_f|| <= tol_rel,f * max_k ||r_f^(k)||,
+//   the maximum taken over this step's iterates so far (the first iterate's norm is the usual
+//   reference, but a field can start at zero: contact constraints before the first contact). An
+//   iterate is accepted when every field has converged, at least one update was made, and the
+//   problem agrees (contact: the active set did not change in this linearization).
+// - Failures, detected and named, never silently continued: a residual that is not finite, an
+//   inverted element (the problem's assembly throws std::domain_error), divergence (a field grows
+//   by more than the divergence factor over max(its largest norm since the first update,
+//   tol_abs,f / tol_rel,f); the first update is not judged, since it applies the load increment
+//   and may raise a field from zero: contact constraints when the gaps change), no convergence
+//   within the maximum
+//   number of iterations, and a linear solve that failed (GMRES broke down, or stopped with a true
+//   relative residual above the accepted one). The result says which; the step driver
+//   (step_driver.h) then cuts the load/time step.
+// - Optional backtracking line search on the scaled merit function
+//       phi(x) = sum_f (||r_f(x)|| / s_f)^2,   s_f = max(max_k ||r_f^(k)||, tol_abs,f):
+//   after an update the step length is halved while phi does not decrease, up to a given number
+//   of times (the last trial is kept: a semi-smooth Newton step need not decrease phi).
+// - The log line of every iterate (residual per field, the problem's own fields, the linear
+//   solve's report) and the console table, and the timers of assembly, preconditioner set-up
+//   and linear solve.
+#pragma once
+
+#include "common/run_output.h"
+
+#include "block_system.h"
+#include "krylov_solver.h"
+#include "presets.h"
+#include "types.h"
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <mpi.h>
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace physics
+{
+  /// Tolerances of one field's residual norm.
+  struct FieldTolerance
+  {
+    double absolute = 1e-12;
+    double relative = 1e-8;
+  };
+
+  struct NewtonSettings
+  {
+    int                         max_iterations = 30;
+    std::vector<FieldTolerance> tolerances; ///< per field, in the problem's order
+    /// A field whose norm exceeds this factor times max(its largest norm since the first update,
+    /// tol_abs / tol_rel) has diverged.
+    double divergence_factor = 1e6;
+    bool   line_search       = false;
+    int    line_search_steps = 4; ///< halvings of the step length at most
+    /// An unconverged GMRES solve is still accepted (inexact Newton) when its true relative
+    /// residual is at most this; above it the solve has failed.
+    double accepted_linear_residual = 1e-6;
+    /// Write every Newton system to `export_directory`/<prefix>-newtonN (BlockSystem format).
+    bool        export_systems = false;
+    std::string export_directory;
+  };
+
+  /// What the problem hands over at each iterate.
+  struct Linearization
+  {
+    /// K dx = -r with its block structure, near-nullspaces and interface maps.
+    const multigrid::BlockSystem* system = nullptr;
+    /// ||r_f|| per field (the problem's field order), of the residual as assembled.
+    std::vector<double> residual_norms;
+  };
+
+  /// The physics of one load/time step's nonlinear problem.
+  class NonlinearProblem
+  {
+  public:
+    virtual ~NonlinearProblem() = default;
+
+    /// Names of the residual fields, e.g. {"displacement", "contact"}; the order of the norms.
+    virtual std::vector<std::string> field_names() const = 0;
+    /// Assembles the Newton system at the current iterate (`iteration` counts from 0 in each
+    /// step). May throw std::domain_error for an inverted element.
+    virtual Linearization linearize(int iteration) = 0;
+    /// May the current iterate be accepted (in addition to the field tolerances)?
+    virtual bool may_converge() const { return true; }
+    /// x += step_length dx, dx on the full map of the last linearization's system. Called with
+    /// a negative step length by the line search to take part of an update back.
+    virtual void update(const multigrid::MultiVector& dx, double step_length) = 0;
+    /// The problem's own fields of the current iterate: log entries and console columns
+    /// (under console_header()).
+    virtual void describe(JsonLinesLog::Line& /*line*/, std::ostream& /*console*/) const {}
+    virtual std::string console_header() const { return ""; }
+  };
+
+  struct NewtonResult
+  {
+    bool                converged  = false;
+    int                 iterations = 0;        ///< updates made
+    std::string         failure;               ///< why it did not converge (empty if it did)
+    std::vector<double> residuals;             ///< sqrt(sum_f ||r_f||^2) per iterate (summaries)
+    std::vector<int>    linear_iterations;     ///< per solve
+    double              setup_seconds = 0, solve_seconds = 0;
+  };
+
+  class NewtonSolver
+  {
+  public:
+    /// `timer` gets the sections "assembly", "preconditioner setup" and "linear solve".
+    NewtonSolver(NewtonSettings settings, multigrid::Preset preset, multigrid::SolveOptions options,
+                 JsonLinesLog& log, dealii::ConditionalOStream& console, dealii::TimerOutput& timer, MPI_Comm comm);
+
+    /// Prints the console table's header for `problem`'s fields.
+    void print_header(const NonlinearProblem& problem) const;
+
+    /// Newton iterations from the problem's current state. `step_fields` adds the caller's
+    /// entries (step number, time) to every log line; `export_prefix` names exported systems.
+    NewtonResult solve(NonlinearProblem& problem, const std::function<void(JsonLinesLog::Line&)>& step_fields,
+                       const std::string& export_prefix);
+
+    const NewtonSettings& settings() const { return settings_; }
+
+  private:
+    /// Per-field convergence of `norms` against `reference` (largest norms of this step).
+    bool fields_converged(const std::vector<double>& norms, const std::vector<double>& reference) const;
+    /// Why the iterate cannot go on (empty if it can): non-finite residuals, or residuals that
+    /// diverged from `reference` (empty: not judged).
+    std::string residual_failure(const std::vector<double>& norms, const std::vector<double>& reference,
+                                 const std::vector<std::string>& names) const;
+    /// The norm that divergence of a field is measured against: max(reference, tol_abs / tol_rel).
+    double divergence_scale(double reference, std::size_t field) const;
+    double merit(const std::vector<double>& norms, const std::vector<double>& reference) const;
+    /// Preconditioner set-up and GMRES on the system; logs the solve. Returns the failure
+    /// message of a failed solve (empty if usable).
+    std::string solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
+                             JsonLinesLog::Line& line, NewtonResult& result);
+    const FieldTolerance& tolerance(std::size_t field) const;
+
+    NewtonSettings              settings_;
+    multigrid::Preset           preset_;
+    multigrid::SolveOptions     options_;
+    JsonLinesLog&               log_;
+    dealii::ConditionalOStream& console_;
+    dealii::TimerOutput&        timer_;
+    MPI_Comm                    comm_;
+    FieldTolerance              default_tolerance_;
+  };
+} // namespace physics

@@ -1,0 +1,64 @@
+// The load/time-step driver every problem class shares: pseudo-time (quasi-static load factor
+// in [0, 1]) or physical time (dynamics) advanced in steps, each solved by the NewtonSolver, with
+// adaptive step cutting:
+//
+//   t = 0, dt = dt_nominal
+//   while t < t_end:
+//     dt = min(dt, t_end - t);  problem.begin_step(t + dt, dt);  Newton
+//     converged: problem.end_step(...); output; t += dt;
+//                after `growth_after` converged steps in a row at a cut step, dt = min(2 dt, dt_nominal)
+//     failed:    problem.reset_step();  dt = dt / 2   (the log says why; at most `max_cuts`
+//                halvings in a row and never below `minimum_step`, else the run stops unconverged)
+//
+// A step cut is the remedy for everything Newton cannot cure from where it stands: a too large
+// load increment (divergence, an inverted element), an active-set change that makes a linear
+// solve fail, a time step too coarse for an impact.
+#pragma once
+
+#include "common/newton_solver.h"
+
+#include <string>
+#include <vector>
+
+namespace physics
+{
+  struct StepSettings
+  {
+    double end_time = 1.0;      ///< quasi-static: load factor 1; dynamics: the final time
+    double step     = 1.0;      ///< nominal step
+    double minimum_step = 0.0;  ///< no cut below this (absolute)
+    int    max_cuts     = 5;    ///< halvings in a row of one step
+    int    growth_after = 2;    ///< converged steps in a row before a cut step is doubled (0: never)
+  };
+
+  /// A NonlinearProblem that is advanced in load/time steps.
+  class SteppedProblem : public NonlinearProblem
+  {
+  public:
+    /// Sets the loads (and dynamics history) of the step that ends at `time` (length `step`);
+    /// the state of the previous step's end must stay recoverable for reset_step().
+    virtual void begin_step(double time, double step) = 0;
+    /// Back to the state before begin_step (a failed step).
+    virtual void reset_step() = 0;
+    /// Accepts the converged step (dynamics: velocities, accelerations, energies). `number`
+    /// counts converged steps from 1.
+    virtual void end_step(int number, double time) = 0;
+    /// Output of a converged step; `last` marks the final one.
+    virtual void write_output(int number, double time, bool last) = 0;
+  };
+
+  struct StepsResult
+  {
+    bool                      converged = false;
+    int                       steps     = 0; ///< converged steps
+    int                       cuts      = 0; ///< failed attempts (each followed by a cut)
+    std::vector<NewtonResult> newton;        ///< per converged step, and the last failed one
+    std::string               failure;       ///< why the run stopped (empty if it finished)
+  };
+
+  /// Runs all steps. Every attempt's log lines carry "load_step" (the number the step gets when it
+  /// converges), "time", "step_size" and "attempt"; a failed attempt adds an event line
+  /// {"event": "step_cut", "reason": ..., "failed_step_size": ..., "new_step_size": ...}.
+  StepsResult run_steps(SteppedProblem& problem, const StepSettings& settings, NewtonSolver& newton, JsonLinesLog& log,
+                        dealii::ConditionalOStream& console);
+} // namespace physics
