@@ -9,6 +9,7 @@
 
 #include <deal.II/base/timer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -166,7 +167,7 @@ namespace physics
       if (it == 0)
         largest = norms;
       for (std::size_t f = 0; f < norms.size(); ++f)
-        largest[f] = std::max(largest[f], norms[f]);
+        largest[f] = std::max({largest[f], norms[f], f < lin.residual_scales.size() ? lin.residual_scales[f] : 0.0});
       combined = 0;
       for (const double n : norms)
         combined += n * n;

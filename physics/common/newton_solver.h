@@ -11,7 +11,8 @@
 //   whole residual is meaningful. Field f has converged when
 //       ||r_f|| <= tol_abs,f    or    ||r_f|| <= tol_rel,f * max_k ||r_f^(k)||,
 //   the maximum taken over this step's iterates so far (the first iterate's norm is the usual
-//   reference, but a field can start at zero: contact constraints before the first contact). An
+//   reference, but a field can start at zero: contact constraints before the first contact) and
+//   over the field's natural size where the problem gives one (Linearization::residual_scales). An
 //   iterate is accepted when every field has converged, at least one update was made, and the
 //   problem agrees (contact: the active set did not change in this linearization).
 // - Failures, detected and named, never silently continued: a residual that is not finite, an
@@ -82,6 +83,12 @@ namespace physics
     const multigrid::BlockSystem* system = nullptr;
     /// ||r_f|| per field (the problem's field order), of the residual as assembled.
     std::vector<double> residual_norms;
+    /// Optional natural size of each field's residual (empty, or 0 for a field: none): the
+    /// relative tolerance then also counts against it. Contact constraints C_j = lambda_n,j -
+    /// max(0, lambda_n,j - c_n g_j / w_j) are measured against the multipliers themselves, so a
+    /// constraint residual that is round-off of the contact pressures counts as converged even
+    /// when the step never moved the constraints (a patch test starts in contact).
+    std::vector<double> residual_scales;
   };
 
   /// The physics of one load/time step's nonlinear problem.

@@ -10,6 +10,20 @@ namespace physics
     /// The last step ends exactly at t_end: a remainder below this fraction of the nominal step
     /// is rounding, not a step of its own.
     constexpr double end_tolerance = 1e-10;
+
+    /// Where a step of length `step` from `time` ends: on the grid of nominal steps where it lands
+    /// there (k dt, as a run without cuts counts time, so that rounding does not accumulate), and
+    /// exactly at the end time for the last one.
+    double step_end(double time, double step, const StepSettings& settings)
+    {
+      double       t_new = std::min(time + step, settings.end_time);
+      const double k     = std::round(t_new / settings.step);
+      if (std::abs(t_new - k * settings.step) <= end_tolerance * settings.step)
+        t_new = k * settings.step;
+      if (settings.end_time - t_new <= end_tolerance * settings.step)
+        t_new = settings.end_time;
+      return t_new;
+    }
   } // namespace
 
   StepsResult run_steps(SteppedProblem& problem, const StepSettings& settings, NewtonSolver& newton, JsonLinesLog& log,
@@ -21,10 +35,10 @@ namespace physics
     newton.print_header(problem);
     while (settings.end_time - time > end_tolerance * settings.step)
       {
-        if (settings.end_time - time - step < end_tolerance * settings.step)
-          step = settings.end_time - time;
-        step               = std::min(step, settings.end_time - time);
-        const double t_new = time + step;
+        const double t_new = step_end(time, step, settings);
+        step               = t_new - time;
+        if (std::abs(step - settings.step) <= end_tolerance * settings.step)
+          step = settings.step; // a nominal step passes the nominal value, not a rounded difference
         const int    number = result.steps + 1;
         problem.begin_step(t_new, step);
         auto fields = [&](JsonLinesLog::Line& line) {
@@ -44,7 +58,8 @@ namespace physics
             time         = t_new;
             attempt = cuts_in_a_row = 0;
             ++converged_in_a_row;
-            if (settings.growth_after > 0 && converged_in_a_row >= settings.growth_after && step < settings.step)
+            if (settings.growth_after > 0 && converged_in_a_row >= settings.growth_after &&
+                step < settings.step * (1 - end_tolerance))
               {
                 const double grown = std::min(2 * step, settings.step);
                 JsonLinesLog::Line line;

@@ -466,6 +466,10 @@ namespace physics::contact
       Linearization result;
       result.system         = &linear_.system;
       result.residual_norms = linear_.system.block_norms(*linear_.system.rhs());
+      double lambda_norm    = 0; // lambda_ is the same on every rank
+      for (const double l : lambda_)
+        lambda_norm += l * l;
+      result.residual_scales = {0.0, std::sqrt(lambda_norm)};
       lifted_.clear();
       if (iteration == 0)
         lift_prescribed_rows();
