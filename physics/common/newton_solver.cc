@@ -116,6 +116,8 @@ namespace physics
     report_linear_solve(report, line, console_, comm_);
     if (!report.failure.empty())
       return "the linear solve failed: " + report.failure;
+    if (settings_.injected_failures.count(++solves_))
+      return "the linear solve failed: failure of solve " + std::to_string(solves_) + " injected (Injected failures)";
     if (!report.converged && !(report.relative_residual <= settings_.accepted_linear_residual))
       {
         std::ostringstream why;

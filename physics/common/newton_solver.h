@@ -47,6 +47,7 @@
 
 #include <functional>
 #include <ostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,9 @@ namespace physics
     /// An unconverged GMRES solve is still accepted (inexact Newton) when its true relative
     /// residual is at most this; above it the solve has failed.
     double accepted_linear_residual = 1e-6;
+    /// Testing the failure handling: these linear solves (counted from 1 over the solver's life)
+    /// are reported as failed after they ran.
+    std::set<int> injected_failures;
     /// Write every Newton system to `export_directory`/<prefix>-newtonN (BlockSystem format).
     bool        export_systems = false;
     std::string export_directory;
@@ -164,5 +168,6 @@ namespace physics
     dealii::TimerOutput&        timer_;
     MPI_Comm                    comm_;
     FieldTolerance              default_tolerance_;
+    int                         solves_ = 0; ///< linear solves so far (injected failures)
   };
 } // namespace physics

@@ -93,6 +93,9 @@ namespace physics
                       "A GMRES solve that stops unconverged is still used (inexact Newton) when its true "
                       "relative residual is at most this; above it (or on a breakdown) the step fails and is "
                       "cut (0 < value < 1).");
+    prm.declare_entry("Injected failures", "", Anything(),
+                      "For testing the failure handling: comma-separated numbers of linear solves (counted from 1 "
+                      "over the run) that are reported as failed after they ran. Empty: none.");
     prm.leave_subsection();
   }
 
@@ -139,6 +142,13 @@ namespace physics
     restart               = prm.get_integer("Restart");
     accepted_linear_residual =
         parameters::tolerance(prm.get_double("Accepted residual"), "'Accepted residual' (Linear solver)");
+    injected_failures.clear();
+    for (const double n : parameters::numbers(prm.get("Injected failures"), "Injected failures"))
+      {
+        if (!(n >= 1) || n != static_cast<int>(n))
+          throw std::invalid_argument("parameter 'Injected failures': expected solve numbers >= 1, got " + text(n));
+        injected_failures.insert(static_cast<int>(n));
+      }
     prm.leave_subsection();
   }
 
@@ -150,6 +160,7 @@ namespace physics
     s.line_search              = line_search;
     s.line_search_steps        = line_search_steps;
     s.accepted_linear_residual = accepted_linear_residual;
+    s.injected_failures        = injected_failures;
     for (const auto& field : fields)
       {
         const auto it = field_tolerances.find(field);
