@@ -45,6 +45,23 @@ unknown subsection or a value outside its pattern is an error, exit status 2.
 
     using Path = std::vector<std::string>;
 
+    /// The pattern of a description; a kind deal.II cannot rebuild (a custom pattern) is left
+    /// to ParameterHandler::set to check.
+    std::shared_ptr<const dealii::Patterns::PatternBase> pattern_from(const std::string& description)
+    {
+      std::unique_ptr<dealii::Patterns::PatternBase> pattern;
+      try
+        {
+          pattern = dealii::Patterns::pattern_factory(description);
+        }
+      catch (const std::exception&)
+        {
+        }
+      if (!pattern)
+        pattern = std::make_unique<dealii::Patterns::Anything>();
+      return pattern;
+    }
+
     Section declared_section(const boost::property_tree::ptree& node)
     {
       Section s;
@@ -52,7 +69,7 @@ unknown subsection or a value outside its pattern is an error, exit status 2.
         {
           const auto description = child.get_child_optional("pattern_description");
           if (description && description->empty() && child.get_child_optional("value"))
-            s.entries[name] = dealii::Patterns::pattern_factory(description->data());
+            s.entries[name] = pattern_from(description->data());
           else
             s.sections[name] = declared_section(child);
         }
@@ -144,7 +161,7 @@ unknown subsection or a value outside its pattern is an error, exit status 2.
                                                     const std::string& where)
     {
       const auto it = section.entries.find(entry);
-      if (it != section.entries.end() && it->second)
+      if (it != section.entries.end())
         return *it->second;
       const std::string elsewhere = section_declaring(root, entry);
       throw std::invalid_argument(where + ": unknown entry '" + entry + "' " + section_name(path) +
@@ -189,9 +206,20 @@ unknown subsection or a value outside its pattern is an error, exit status 2.
                                     section_name(path) + " is not allowed, expected " + in_words(pattern));
       for (const auto& p : path)
         prm.enter_subsection(p);
-      prm.set(entry, value); // cannot throw: declared, and the pattern matched
+      bool refused = false;
+      try
+        {
+          prm.set(entry, value); // declared, and the pattern (unless a custom one) matched
+        }
+      catch (const dealii::ExceptionBase&)
+        {
+          refused = true;
+        }
       for (std::size_t i = 0; i < path.size(); ++i)
         prm.leave_subsection();
+      if (refused)
+        throw std::invalid_argument(where + ": value '" + value + "' of '" + entry + "' " +
+                                    section_name(path) + " is not allowed");
     }
 
     /// A file name written in the parameter file is relative to the file's directory.
