@@ -20,6 +20,7 @@
 #include "trilinos_scope.h"
 
 #include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_ParameterListExceptions.hpp>
 #include <Tpetra_Core.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
 
@@ -209,12 +210,17 @@ int main(int argc, char** argv)
         std::cerr << "solve_block_system: error: " << e.what() << std::endl;
       return 2;
     }
+  catch (const Teuchos::Exceptions::InvalidParameter& e) // a parameter of the preset MueLu refuses
+    {
+      if (root)
+        std::cerr << "solve_block_system: error: " << multigrid::one_line_message(e.what()) << std::endl;
+      return 2;
+    }
   catch (const std::exception& e)
     {
-      std::string what = e.what();
-      const auto  nl   = what.find('\n');
       if (root)
-        std::cerr << "solve_block_system: internal error: " << what.substr(0, nl) << std::endl;
+        std::cerr << "solve_block_system: internal error: " << multigrid::one_line_message(e.what())
+                  << std::endl;
       return 3;
     }
 }

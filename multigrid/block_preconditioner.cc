@@ -104,14 +104,7 @@ namespace multigrid
         }
       catch (const std::exception& e)
         {
-          std::string what = e.what();
-          // keep the innermost message line: MueLu/Teuchos prepend file and line information
-          std::string        line, last;
-          std::istringstream s(what);
-          while (std::getline(s, line))
-            if (!line.empty() && line.find_first_not_of(" \t") != std::string::npos)
-              last = line;
-          throw InputError("preset '" + preset + "': setup failed: " + last);
+          throw InputError("preset '" + preset + "': setup failed: " + one_line_message(e.what()));
         }
     }
 

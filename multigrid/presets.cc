@@ -1,11 +1,15 @@
 #include "presets.h"
 
+#include <MueLu_MasterList.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 #include <sstream>
 
@@ -64,9 +68,35 @@ namespace multigrid
         }
       catch (const std::exception& e)
         {
-          std::string what = e.what();
-          what.erase(std::remove(what.begin(), what.end(), '\n'), what.end());
-          throw InputError(file + ": not a valid XML parameter list (" + what.substr(0, 200) + ")");
+          throw InputError(file + ": not a valid XML parameter list (" + one_line_message(e.what()) + ")");
+        }
+    }
+
+    /// What each kind's builder reads without a default, so that a preset file lacking one is
+    /// refused when it is read (not as a Teuchos lookup error in the middle of the setup).
+    void check_required_parameters(const Preset& p, const std::string& file)
+    {
+      struct Required
+      {
+        std::string kind, name, type; // type: "sublist", "string", "int", "double"
+      };
+      static const std::vector<Required> required = {{"amg", "MueLu", "sublist"},
+                                                     {"saddle-point-amg", "template", "string"},
+                                                     {"saddle-point-amg", "template parameters", "sublist"},
+                                                     {"cheapsimple", "sweeps", "int"},
+                                                     {"cheapsimple", "damping", "double"},
+                                                     {"cheapsimple", "schur solver", "sublist"}};
+      const auto&                        l        = p.parameters;
+      for (const auto& r : required)
+        {
+          const bool ok = r.type == "sublist"  ? l.isSublist(r.name)
+                          : r.type == "string" ? l.isType<std::string>(r.name)
+                          : r.type == "int"    ? l.isType<int>(r.name)
+                                               : l.isType<double>(r.name);
+          if (r.kind == p.kind && !ok)
+            throw InputError(
+                file + ": a preset of kind '" + p.kind + "' needs the " +
+                (r.type == "sublist" ? "sublist '" + r.name + "'" : r.type + " parameter '" + r.name + "'"));
         }
     }
 
@@ -76,13 +106,153 @@ namespace multigrid
       p.name       = name;
       p.parameters = list;
       p.parameters.remove("name", false);
+      if (list.isParameter("kind") && !list.isType<std::string>("kind"))
+        throw InputError(file + ": parameter 'kind' must be of type string");
       p.kind = list.isParameter("kind") ? list.get<std::string>("kind") : std::string("muelu");
       static const std::vector<std::string> kinds = {"amg", "saddle-point-amg", "cheapsimple", "direct",
                                                      "muelu"};
       if (std::find(kinds.begin(), kinds.end(), p.kind) == kinds.end())
         throw InputError(file + ": parameter 'kind' is '" + p.kind +
                          "', expected amg, saddle-point-amg, cheapsimple, direct or muelu");
+      check_required_parameters(p, file);
       return p;
+    }
+
+    /// " (known: A, B, ...)" listing, sorted, the parameters (or the sublists) of `list`.
+    std::string known_names(const Teuchos::ParameterList& list, bool sublists)
+    {
+      std::vector<std::string> names;
+      for (auto it = list.begin(); it != list.end(); ++it)
+        if (list.entry(it).isList() == sublists)
+          names.push_back(list.name(it));
+      std::sort(names.begin(), names.end());
+      std::string known;
+      for (const auto& n : names)
+        known += (known.empty() ? "" : ", ") + n;
+      return " (known: " + (known.empty() ? std::string("none") : known) + ")";
+    }
+
+    /// The lists of a preset that are MueLu parameter lists (MueLu reads and validates them).
+    bool is_muelu_list(const Preset& preset, const std::string& parent)
+    {
+      return (preset.kind == "amg" && parent == "MueLu") ||
+             (preset.kind == "cheapsimple" && (parent == "primal solver" || parent == "schur solver"));
+    }
+
+    /// Which parameters an override may add where a preset does not set them, with their types.
+    /// Only two kinds of list read parameters they do not contain, with defaults:
+    ///  - a MueLu parameter list (the "MueLu" list of an amg preset, the "primal solver" and
+    ///    "schur solver" lists of a cheapsimple preset): any parameter of MueLu's master list,
+    ///    typed as there (MueLu validates the list when it builds the hierarchy);
+    ///  - the top level of a cheapsimple preset: the options CheapSIMPLE reads with a default.
+    /// Everywhere else - "template parameters" (the placeholders of the template), the
+    /// Ifpack2/Amesos2 sublists inside MueLu lists ("smoother: params", ...), a user's complete
+    /// MueLu XML - a name the preset does not have is a typo, and refused.
+    Teuchos::RCP<const Teuchos::ParameterList> addable_parameters(const Preset&      preset,
+                                                                  const std::string& parent)
+    {
+      if (is_muelu_list(preset, parent))
+        return MueLu::MasterList::List();
+      auto optional = Teuchos::rcp(new Teuchos::ParameterList);
+      if (preset.kind == "cheapsimple" && parent.empty())
+        {
+          optional->set("predictor", std::string("amg"));
+          optional->set("schur nullspace", std::string("none"));
+          optional->set("spai: pattern power", 1);
+          optional->set("spai: drop tolerance", 0.0);
+        }
+      return optional;
+    }
+
+    /// Adds `name` to `list` (the sublist `parent` of the preset) with the type it has where
+    /// adding it is allowed, or throws listing the known parameters of that list.
+    void add_new_parameter(const Preset& preset, Teuchos::ParameterList& list, const std::string& parent,
+                           const std::string& name, const std::string& where)
+    {
+      const auto addable = addable_parameters(preset, parent);
+      if (addable->isParameter(name) && !addable->isSublist(name))
+        {
+          // The type only: no validator, no "used" mark on MueLu's master list.
+          list.setEntry(name, Teuchos::ParameterEntry(addable->getEntry(name).getAny(false)));
+          return;
+        }
+      const std::string what = parent == "template parameters" ? "template parameter '"
+                               : parent.empty()                ? "parameter '"
+                                                               : "parameter in '" + parent + "' named '";
+      throw InputError(where + ": preset '" + preset.name + "' has no " + what + name + "'" +
+                       (is_muelu_list(preset, parent) ? ", nor has MueLu" : "") + known_names(list, false));
+    }
+
+    /// The type ("int", "double", "bool", "string") of a template parameter, from the XML entry
+    /// of the template that receives it (value="@NAME@"); empty for anything else.
+    std::string template_parameter_type(const Preset& preset, const std::string& parent,
+                                        const std::string& name)
+    {
+      if (parent != "template parameters" || !preset.parameters.isType<std::string>("template") ||
+          !std::regex_match(name, std::regex("[A-Za-z0-9_]+")))
+        return "";
+      std::ifstream     in(fs::path(preset_directory()) / preset.parameters.get<std::string>("template"));
+      std::stringstream buffer;
+      buffer << in.rdbuf();
+      const std::string text = buffer.str();
+      std::smatch       m;
+      const std::regex  entry(R"re(type="(\w+)"\s+value="@)re" + name + "@\"");
+      return std::regex_search(text, m, entry) ? m[1].str() : std::string();
+    }
+
+    /// `text` as a whole is an int (std::stoi would take "3x" as 3, "2.5" as 2).
+    bool parses_as_int(const std::string& text, int& v)
+    {
+      char*      end = nullptr;
+      const long l   = std::strtol(text.c_str(), &end, 10);
+      if (text.empty() || *end != '\0' || l < std::numeric_limits<int>::min() ||
+          l > std::numeric_limits<int>::max())
+        return false;
+      v = static_cast<int>(l);
+      return true;
+    }
+
+    bool parses_as_double(const std::string& text, double& v)
+    {
+      char* end = nullptr;
+      v         = std::strtod(text.c_str(), &end);
+      return !text.empty() && *end == '\0' && std::isfinite(v);
+    }
+
+    /// Sets list[name] = value converted to the type of the existing entry (for a template
+    /// parameter, a string checked against the type of the template's entry).
+    void set_typed(Teuchos::ParameterList& list, const std::string& name, const std::string& value,
+                   const std::string& where, const std::string& template_type)
+    {
+      int        i      = 0;
+      double     d      = 0;
+      const auto refuse = [&](const std::string& expected) {
+        throw InputError(where + ": value '" + value + "' does not fit the type of '" + name +
+                         "' (expected " + expected + ")");
+      };
+      const std::string type = !template_type.empty()           ? template_type
+                               : list.isType<std::string>(name) ? "string"
+                               : list.isType<int>(name)         ? "int"
+                               : list.isType<double>(name)      ? "double"
+                               : list.isType<bool>(name)        ? "bool"
+                                                                : "";
+      if (type == "int" && !parses_as_int(value, i))
+        refuse("an integer");
+      if (type == "double" && !parses_as_double(value, d))
+        refuse("a number");
+      if (type == "bool" && value != "true" && value != "false")
+        refuse("true or false");
+      if (type.empty())
+        throw InputError(where + ": parameter '" + name +
+                         "' is not a string, number or bool and cannot be overridden");
+      if (!template_type.empty() || type == "string")
+        list.set(name, value);
+      else if (type == "int")
+        list.set(name, i);
+      else if (type == "double")
+        list.set(name, d);
+      else
+        list.set(name, value == "true");
     }
   } // namespace
 
@@ -138,46 +308,27 @@ namespace multigrid
       {
         const auto eq = o.find('=');
         if (eq == std::string::npos || eq == 0)
-          throw InputError("--set '" + o + "': expected PATH=VALUE");
-        const std::string       path = o.substr(0, eq), value = o.substr(eq + 1);
+          throw InputError("override '" + o + "': expected PATH=VALUE");
+        const std::string where = "override '" + o + "'";
+        const std::string path = o.substr(0, eq), value = o.substr(eq + 1);
+        // Walk the sublists; none is created (a typo in a sublist name is an error).
         Teuchos::ParameterList* list = &preset.parameters;
-        std::string             rest = path;
+        std::string             rest = path, parent;
         for (auto slash = rest.find('/'); slash != std::string::npos; slash = rest.find('/'))
           {
             const std::string sub = rest.substr(0, slash);
             if (!list->isSublist(sub))
-              throw InputError("--set '" + o + "': preset '" + preset.name + "' has no sublist '" + sub +
-                               "'");
-            list = &list->sublist(sub);
-            rest = rest.substr(slash + 1);
+              throw InputError(where + ": preset '" + preset.name + "' has no sublist '" + sub + "'" +
+                               known_names(*list, true));
+            parent = parent.empty() ? sub : parent + "/" + sub;
+            list   = &list->sublist(sub);
+            rest   = rest.substr(slash + 1);
           }
-        try
-          {
-            if (!list->isParameter(rest) || list->isType<std::string>(rest))
-              list->set(rest, value);
-            else if (list->isType<int>(rest))
-              list->set(rest, std::stoi(value));
-            else if (list->isType<double>(rest))
-              list->set(rest, std::stod(value));
-            else if (list->isType<bool>(rest))
-              {
-                if (value != "true" && value != "false")
-                  throw std::invalid_argument("bool");
-                list->set(rest, value == "true");
-              }
-            else
-              throw InputError("--set '" + o + "': parameter '" + rest +
-                               "' cannot be set from the command line");
-          }
-        catch (const std::invalid_argument&)
-          {
-            throw InputError("--set '" + o + "': value '" + value + "' does not fit the type of '" + rest +
-                             "'");
-          }
-        catch (const std::out_of_range&)
-          {
-            throw InputError("--set '" + o + "': value '" + value + "' out of range");
-          }
+        if (list->isSublist(rest))
+          throw InputError(where + ": '" + rest + "' is a sublist, not a parameter");
+        if (!list->isParameter(rest))
+          add_new_parameter(preset, *list, parent, rest, where);
+        set_typed(*list, rest, value, where, template_parameter_type(preset, parent, rest));
       }
   }
 
@@ -210,5 +361,33 @@ namespace multigrid
       throw InputError("preset '" + preset.name + "': template parameter '" + m[1].str() +
                        "' has no value (add it to 'template parameters')");
     return text;
+  }
+
+  std::string one_line_message(const std::string& what)
+  {
+    const auto collapsed = [](const std::string& text) { // whitespace runs as one space, trimmed
+      std::string line;
+      for (char c : text)
+        if (!std::isspace(static_cast<unsigned char>(c)))
+          line += c;
+        else if (!line.empty() && line.back() != ' ')
+          line += ' ';
+      if (!line.empty() && line.back() == ' ')
+        line.pop_back();
+      return line;
+    };
+    // TEUCHOS_TEST_FOR_EXCEPTION writes "FILE:LINE:\n\nThrow number = N\n\nThrow test that
+    // evaluated to true: TEST\n\nMESSAGE", its _PURE_MSG variant "MESSAGE\n\nThrow number = N",
+    // a ParameterList lookup adds the list's contents; keep MESSAGE.
+    std::string text = what;
+    const auto  test = text.find("Throw test that evaluated to true:");
+    if (test != std::string::npos && text.find("\n\n", test) != std::string::npos)
+      text = text.substr(text.find("\n\n", test) + 2);
+    for (const std::string tail : {"Throw number =", "The current parameters set in"})
+      text = text.substr(0, text.find(tail));
+    std::string line = collapsed(text);
+    if (line.empty()) // nothing but Teuchos' header: better all of it than nothing
+      line = collapsed(what);
+    return line.size() > 400 ? line.substr(0, 400) + " ..." : line;
   }
 } // namespace multigrid

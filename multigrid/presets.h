@@ -39,8 +39,17 @@ namespace multigrid
   /// Loads a user's XML file (a preset file, or a complete MueLu XML: kind "muelu").
   Preset load_preset_file(const std::string& file);
 
-  /// Applies "PATH=VALUE" overrides; the value is converted to the type of the existing entry.
+  /// Applies "PATH=VALUE" overrides; the value is converted to the type of the existing entry
+  /// (a template parameter: checked against the type of the template's entry). A sublist or
+  /// parameter the preset lacks is refused (InputError listing the known ones), except a parameter
+  /// of MueLu's master list at the top of a MueLu list ("MueLu", "primal solver", "schur solver")
+  /// and CheapSIMPLE's optional keys (predictor, schur nullspace, spai: ...) at the top level.
   void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
+
+  /// The what() of a Trilinos exception (a preset's parameters refused by Teuchos or MueLu) as
+  /// one clean line: the message without Teuchos' throw-site header (source path, throw number,
+  /// failed test), line breaks as spaces, at most 400 characters.
+  std::string one_line_message(const std::string& what);
 
   /// For saddle-point-amg presets: the MueLu XML text after substitution.
   std::string expand_template(const Preset& preset, int primal_dofs_per_node, int dual_dofs_per_node);

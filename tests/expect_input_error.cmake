@@ -1,4 +1,4 @@
-# Runs EXE with ARGS and checks the contract for bad input: exit status 2, exactly one line on
+# Runs EXE with ARGS and checks the contract for bad input: exit status 2, exactly one clean line on
 # stderr, containing EXPECTED. With LAUNCHER (e.g. mpirun;-np;2) the app's line is the first one;
 # mpirun's own report of the exit status follows it.
 execute_process(COMMAND ${LAUNCHER} ${EXE} ${ARGS} RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_VARIABLE out)
@@ -17,3 +17,10 @@ string(FIND "${err}" "${EXPECTED}" found)
 if(found EQUAL -1)
   message(FATAL_ERROR "stderr '${err}' does not contain '${EXPECTED}'")
 endif()
+# A clean line: nothing of a deal.II exception dump or a Teuchos throw site (source paths).
+foreach(fragment "Stacktrace" "--------" ".cpp:" ".hpp:" ".cc:" "/usr/include" "Throw number" "An error occurred in line")
+  string(FIND "${err}" "${fragment}" dirty)
+  if(NOT dirty EQUAL -1)
+    message(FATAL_ERROR "error message carries '${fragment}': ${err}")
+  endif()
+endforeach()

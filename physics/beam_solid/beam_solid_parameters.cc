@@ -25,8 +25,10 @@ namespace physics::beam_solid
     prm.leave_subsection();
 
     prm.enter_subsection("Fibres");
-    prm.declare_entry("Beam file", "", Anything(),
-                      "gmsh beam mesh: a .geo (meshed with gmsh -1) or an ASCII msh 2.2 file whose 2-node line "
+    prm.declare_entry("Beam file", "", dealii::Patterns::FileName(dealii::Patterns::FileName::FileType::input),
+                      "gmsh beam mesh (written in a .prm file: relative to that file's directory; given with --set: "
+                      "relative to the working directory): a .geo (meshed with gmsh -1) or an ASCII msh 2.2 file whose "
+                      "2-node line "
                       "elements are the beam elements: straight fibres, elements collinear where they meet (the "
                       "torsion-free beam model needs straight reference fibres). Empty: the generated fibre grid "
                       "below.");

@@ -19,9 +19,11 @@ namespace physics::contact
   void ContactParameters::declare(dealii::ParameterHandler& prm)
   {
     prm.enter_subsection("Mesh");
-    prm.declare_entry("Mesh file", "meshes/two_blocks_2d.geo", Anything(),
-                      "gmsh .geo source (meshed on the fly with -setnumber refine N) or .msh file, relative to the "
-                      "working directory. Physical volumes (2D: surfaces) give the bodies, physical surfaces (2D: "
+    prm.declare_entry("Mesh file", "meshes/two_blocks_2d.geo",
+                      dealii::Patterns::FileName(dealii::Patterns::FileName::FileType::input),
+                      "gmsh .geo source (meshed on the fly with -setnumber refine N) or .msh file; written in a "
+                      ".prm file: relative to that file's directory, given with --set (and this default): relative "
+                      "to the working directory. Physical volumes (2D: surfaces) give the bodies, physical surfaces (2D: "
                       "lines) the boundary ids below. Quadrilaterals/hexahedra.");
     prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension of the mesh.");
     prm.declare_entry("Gmsh refinement", "1", Integer(1, 64), "Value of the .geo variable 'refine'.");
