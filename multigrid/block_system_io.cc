@@ -471,6 +471,10 @@ namespace multigrid
     const GO    n   = static_cast<GO>(map->getGlobalNumElements());
     if (map->getMinAllGlobalIndex() != 0 || map->getMaxAllGlobalIndex() != n - 1)
       throw InputError(file + ": the vector's global ids are not 0.." + std::to_string(n - 1));
+    on_root(*map->getComm(), [&] {
+      if (!std::ofstream(file))
+        throw InputError(file + ": cannot write the file (does its folder exist?)");
+    });
     const auto root     = root_map(n, map->getComm());
     auto       gathered = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(root, v.getNumVectors());
     gathered->doImport(v, *Xpetra::ImportFactory<LO, GO, NO>::Build(map, root), Xpetra::INSERT);
