@@ -2,12 +2,12 @@
 // preconditioners, inside GMRES, and report what it took.
 //
 // The system comes from files (a directory written by our apps with --export-system, or another
-// code's single-matrix export such as shared/peer-data/meshtying2D_small) or from a built-in model
+// code's single-matrix export such as tests/data/peer/meshtying2D_small) or from a built-in model
 // problem. This is where preconditioners are compared on identical matrices.
 //
 // Sample runs:
 //   solve_block_system --builtin tied-blocks-2d:3 --preset "emin(cheapsimple)"
-//   mpirun -np 2 solve_block_system --system ../shared/peer-data/meshtying2D_small
+//   mpirun -np 2 solve_block_system --system tests/data/peer/meshtying2D_small
 //       --xml tests/data/peer_meshtying2D.xml --tol 1e-4 --per-block --json report.json
 //   solve_block_system --builtin tied-blocks-2d:1 --preset "cheapsimple(sa-amg)"
 //       --set "primal solver/max levels=2"
@@ -59,6 +59,7 @@ Krylov method:
 Output:
   --json FILE          write the solve report as JSON (atomically)
   --export-system DIR  write the system in the project's format (manifest + Matrix Market)
+  --write-solution FILE  write x as a Matrix Market array in the row order of the system's matrix
   --print-xml          print the expanded MueLu XML of a saddle-point preset and exit
   --list-presets       list the shipped presets with their descriptions and exit
   --help               this text
@@ -68,7 +69,7 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
 
   struct Options
   {
-    std::string              system, builtin, preset, xml, json, export_dir;
+    std::string              system, builtin, preset, xml, json, export_dir, solution;
     std::vector<std::string> overrides;
     multigrid::SolveOptions  solve;
     multigrid::ReadOptions   read;
@@ -110,6 +111,8 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
           o.json = value();
         else if (a == "--export-system")
           o.export_dir = value();
+        else if (a == "--write-solution")
+          o.solution = value();
         else if (a == "--tol")
           o.solve.tolerance = parse_number<double>(a, value());
         else if (a == "--max-iterations")
@@ -196,6 +199,8 @@ int main(int argc, char** argv)
       auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
           system.full_map(), 1, true);
       const auto report = multigrid::solve(system, preconditioner, *x, o.solve);
+      if (!o.solution.empty())
+        multigrid::write_in_global_order(*x, o.solution);
       if (root)
         {
           multigrid::print_report(std::cout, report);

@@ -1,13 +1,13 @@
 #include "block_system_io.h"
 
 #include <Xpetra_IO.hpp>
+#include <Xpetra_ImportFactory.hpp>
 #include <Xpetra_MapFactory.hpp>
 #include <Xpetra_StridedMap.hpp>
 #include <Xpetra_MultiVector.hpp>
 
 #include <Teuchos_CommHelpers.hpp>
 
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -28,7 +28,8 @@ namespace multigrid
         std::string name;
         GO          size          = 0;
         int         dofs_per_node = 1;
-        std::string nullspace; ///< file or empty
+        std::string nullspace;   ///< file or empty
+        std::string coordinates; ///< file of nodal coordinates or empty
       };
       std::string        source; ///< for messages
       std::string        matrix, rhs;
@@ -125,13 +126,15 @@ namespace multigrid
           else if (key == "block")
             {
               Description::Block b;
-              std::string        nsp;
+              std::string        nsp, xyz;
               if (!(s >> b.name >> b.size >> b.dofs_per_node))
-                bad("expected 'block <name> <size> <dofs per node> [nullspace]'");
+                bad("expected 'block <name> <size> <dofs per node> [nullspace|-] [coordinates|-]'");
               if (b.size <= 0 || b.dofs_per_node <= 0)
                 bad("block '" + b.name + "': size and DOFs per node must be positive");
               if (s >> nsp && nsp != "-")
                 b.nullspace = (fs::path(dir) / nsp).string();
+              if (s >> xyz && xyz != "-")
+                b.coordinates = (fs::path(dir) / xyz).string();
               d.blocks.push_back(b);
             }
           else if (key == "interface")
@@ -235,6 +238,42 @@ namespace multigrid
                                                    Teuchos::ArrayView<const GO>(local), 0, comm);
     }
 
+    /// The block's owned nodes numbered within the block (coordinates files use this numbering).
+    RCP<const Map> block_node_map(const BlockInfo& b, const RCP<const Comm>& comm)
+    {
+      std::vector<GO> nodes;
+      const auto      gids = b.map->getNodeElementList();
+      for (decltype(gids.size()) i = 0; i < gids.size(); i += b.dofs_per_node)
+        nodes.push_back((gids[i] - b.offset) / b.dofs_per_node);
+      return Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, b.global_size / b.dofs_per_node,
+                                                   Teuchos::ArrayView<const GO>(nodes), 0, comm);
+    }
+
+    /// Every id 0..n-1 on rank 0, ascending, none elsewhere. Tpetra's dense Matrix Market reader
+    /// and writer stream a vector rank by rank (rank 0's local rows, then rank 1's, ...), not by
+    /// global id; on this map the two orders coincide. Rank 0 then holds the whole vector:
+    /// acceptable for file I/O (the matrix reader and writer gather on rank 0 as well), not for
+    /// the solver's working vectors.
+    RCP<const Map> root_map(GO n, const RCP<const Comm>& comm)
+    {
+      std::vector<GO> all;
+      if (comm->getRank() == 0)
+        for (GO g = 0; g < n; ++g)
+          all.push_back(g);
+      return Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n, Teuchos::ArrayView<const GO>(all), 0, comm);
+    }
+
+    /// Reads a Matrix Market array whose row i belongs to global id i of `map` (ids 0..n-1),
+    /// whatever the distribution of `map`.
+    RCP<MultiVector> read_in_global_order(const std::string& file, const RCP<const Map>& map)
+    {
+      const auto root  = root_map(static_cast<GO>(map->getGlobalNumElements()), map->getComm());
+      const auto whole = Xpetra::IO<SC, LO, GO, NO>::ReadMultiVector(file, root);
+      auto       v     = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, whole->getNumVectors());
+      v->doImport(*whole, *Xpetra::ImportFactory<LO, GO, NO>::Build(root, map), Xpetra::INSERT);
+      return v;
+    }
+
     /// The same local values on another map with the same local length.
     RCP<MultiVector> with_map(const MultiVector& v, const RCP<const Map>& map)
     {
@@ -283,13 +322,23 @@ namespace multigrid
                                " x 1 array");
           }
         for (const auto& b : d.blocks)
-          if (!b.nullspace.empty())
-            {
-              const auto n = scan_matrix_market(b.nullspace);
-              if (n.coordinate || n.rows != b.size)
-                throw InputError(b.nullspace + ": nullspace has " + std::to_string(n.rows) +
-                                 " rows, expected " + std::to_string(b.size) + " (block '" + b.name + "')");
-            }
+          {
+            if (!b.nullspace.empty())
+              {
+                const auto n = scan_matrix_market(b.nullspace);
+                if (n.coordinate || n.rows != b.size)
+                  throw InputError(b.nullspace + ": nullspace has " + std::to_string(n.rows) +
+                                   " rows, expected " + std::to_string(b.size) + " (block '" + b.name + "')");
+              }
+            if (!b.coordinates.empty())
+              {
+                const auto n = scan_matrix_market(b.coordinates);
+                if (n.coordinate || n.rows != b.size / b.dofs_per_node)
+                  throw InputError(b.coordinates + ": coordinates of " + std::to_string(n.rows) +
+                                   " nodes, expected " + std::to_string(b.size / b.dofs_per_node) +
+                                   " (block '" + b.name + "')");
+              }
+          }
         if (d.has_interface)
           {
             if (d.blocks.size() != 2)
@@ -351,17 +400,19 @@ namespace multigrid
 
       using IO                = Xpetra::IO<SC, LO, GO, NO>;
       RCP<Matrix>      A      = IO::Read(d.matrix, row_map);
-      RCP<MultiVector> rhs    = d.rhs.empty() ? Teuchos::null : IO::ReadMultiVector(d.rhs, row_map);
+      RCP<MultiVector> rhs    = d.rhs.empty() ? Teuchos::null : read_in_global_order(d.rhs, row_map);
       BlockSystem      system = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
 
+      // Nullspace and coordinates files are numbered within their block (DOFs, nodes), and row i
+      // goes to the owner of id i, so any rank count reads the same vectors.
       for (std::size_t k = 0; k < d.blocks.size(); ++k)
-        if (!d.blocks[k].nullspace.empty())
-          {
-            // Nullspace files are numbered within their block.
-            const auto nsp =
-                IO::ReadMultiVector(d.blocks[k].nullspace, block_local_map(system.block(k), comm));
-            system.block(k).nullspace = with_map(*nsp, system.block(k).map);
-          }
+        {
+          auto& b = system.block(k);
+          if (!d.blocks[k].nullspace.empty())
+            b.nullspace = with_map(*read_in_global_order(d.blocks[k].nullspace, block_local_map(b, comm)), b.map);
+          if (!d.blocks[k].coordinates.empty())
+            b.coordinates = read_in_global_order(d.blocks[k].coordinates, block_node_map(b, comm));
+        }
 
       if (d.has_interface)
         {
@@ -399,76 +450,6 @@ namespace multigrid
     }
   } // namespace
 
-  MatrixMarketHeader scan_matrix_market(const std::string& file, bool check_entries)
-  {
-    std::ifstream in(file);
-    if (!in)
-      throw InputError(file + ": cannot open Matrix Market file");
-    MatrixMarketHeader h;
-    std::string        line;
-    long long          line_no = 0;
-    if (!std::getline(in, line) || line.rfind("%%MatrixMarket", 0) != 0)
-      throw InputError(file + ":1: missing '%%MatrixMarket' banner");
-    ++line_no;
-    {
-      std::istringstream s(line);
-      std::string        banner, object, format, symmetry;
-      s >> banner >> object >> format >> h.field >> symmetry;
-      if (object != "matrix" || (format != "coordinate" && format != "array"))
-        throw InputError(file + ":1: expected 'matrix coordinate' or 'matrix array'");
-      h.coordinate = (format == "coordinate");
-      if (symmetry != "general")
-        throw InputError(file + ":1: symmetry '" + symmetry + "', only 'general' is supported");
-    }
-    bool      have_size = false;
-    long long count     = 0;
-    while (std::getline(in, line))
-      {
-        ++line_no;
-        if (line.empty() || line[0] == '%')
-          continue;
-        std::istringstream s(line);
-        const std::string  where = file + ":" + std::to_string(line_no) + ": ";
-        if (!have_size)
-          {
-            if (!(s >> h.rows >> h.cols) || (h.coordinate && !(s >> h.entries)))
-              throw InputError(where + "expected the size line");
-            if (!h.coordinate)
-              h.entries = h.rows * h.cols;
-            have_size = true;
-            if (!check_entries)
-              return h;
-            continue;
-          }
-        ++count;
-        if (count > h.entries)
-          throw InputError(where + "more entries than the " + std::to_string(h.entries) + " announced");
-        std::string value;
-        if (h.coordinate)
-          {
-            long long i = 0, j = 0;
-            if (!(s >> i >> j >> value))
-              throw InputError(where + "expected 'row column value'");
-            if (i < 1 || i > h.rows || j < 1 || j > h.cols)
-              throw InputError(where + "index (" + std::to_string(i) + ", " + std::to_string(j) +
-                               ") outside the " + std::to_string(h.rows) + " x " + std::to_string(h.cols) +
-                               " matrix");
-          }
-        else if (!(s >> value))
-          throw InputError(where + "expected a value");
-        char*        end = nullptr;
-        const double v   = std::strtod(value.c_str(), &end);
-        if (end == value.c_str() || *end != '\0' || !std::isfinite(v))
-          throw InputError(where + "value '" + value + "' is not a finite number");
-      }
-    if (!have_size)
-      throw InputError(file + ": no size line");
-    if (count != h.entries)
-      throw InputError(file + ": " + std::to_string(count) + " entries, the header announces " +
-                       std::to_string(h.entries));
-    return h;
-  }
-
   std::vector<GO> read_map_gids(const std::string& file)
   {
     require_file(file, "map");
@@ -480,6 +461,24 @@ namespace multigrid
     for (std::size_t i = 0; i < v.size(); i += 2)
       gids.push_back(v[i]);
     return gids;
+  }
+
+  void write_in_global_order(const MultiVector& v, const std::string& file)
+  {
+    // Gathered on root_map (see there): rank 0's rows of a block system belong to every block,
+    // so the rank-by-rank order of Tpetra's writer is not the row order of matrix.mm.
+    const auto& map = v.getMap();
+    const GO    n   = static_cast<GO>(map->getGlobalNumElements());
+    if (map->getMinAllGlobalIndex() != 0 || map->getMaxAllGlobalIndex() != n - 1)
+      throw InputError(file + ": the vector's global ids are not 0.." + std::to_string(n - 1));
+    on_root(*map->getComm(), [&] {
+      if (!std::ofstream(file))
+        throw InputError(file + ": cannot write the file (does its folder exist?)");
+    });
+    const auto root     = root_map(n, map->getComm());
+    auto       gathered = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(root, v.getNumVectors());
+    gathered->doImport(v, *Xpetra::ImportFactory<LO, GO, NO>::Build(map, root), Xpetra::INSERT);
+    Xpetra::IO<SC, LO, GO, NO>::Write(file, *gathered);
   }
 
   BlockSystem read_block_system(const std::string& path, RCP<const Comm> comm, const ReadOptions& options)
@@ -508,22 +507,29 @@ namespace multigrid
     std::ostringstream manifest;
     manifest << "# BlockSystem written by the saddle-point multiphysics mini-app\n"
              << "format block-system-1\nmatrix matrix.mm\nrhs rhs.mm\n";
+    // Every entry of matrix.mm carries its global (row, column); vectors are written in the
+    // order of their global ids, i.e. in the row order of matrix.mm.
     IO::Write(partial + "/matrix.mm", *system.merged_matrix());
-    IO::Write(partial + "/rhs.mm", *system.rhs());
+    write_in_global_order(*system.rhs(), partial + "/rhs.mm");
     for (std::size_t k = 0; k < system.n_blocks(); ++k)
       {
         const auto& b        = system.block(k);
-        std::string nsp_name = "-";
+        std::string nsp_name = "-", xyz_name = "-";
         if (!b.nullspace.is_null())
           {
-            const auto copy = with_map(*b.nullspace, block_local_map(b, system.comm()));
-            nsp_name        = "nullspace_" + std::to_string(k) + ".mm";
-            IO::Write(partial + "/" + nsp_name, *copy);
+            nsp_name = "nullspace_" + std::to_string(k) + ".mm";
+            write_in_global_order(*with_map(*b.nullspace, block_local_map(b, system.comm())),
+                                  partial + "/" + nsp_name);
+          }
+        if (!b.coordinates.is_null())
+          {
+            xyz_name = "coordinates_" + std::to_string(k) + ".mm";
+            write_in_global_order(*b.coordinates, partial + "/" + xyz_name);
           }
         std::string name = b.name;
         std::replace(name.begin(), name.end(), ' ', '_');
-        manifest << "block " << name << " " << b.global_size << " " << b.dofs_per_node << " " << nsp_name
-                 << "\n";
+        manifest << "block " << name << " " << b.global_size << " " << b.dofs_per_node << " " << nsp_name << " "
+                 << xyz_name << "\n";
       }
     if (system.has_interface())
       {

@@ -6,11 +6,13 @@
 //        format   block-system-1
 //        matrix   matrix.mm                    (the whole operator, 1-based coordinate format)
 //        rhs      rhs.mm                       (array format)
-//        block    <name> <size> <dofs per node> [nullspace file|-]
+//        block    <name> <size> <dofs per node> [nullspace file|-] [coordinates file|-]
 //        interface <dual-to-primal file> [segregation DOF file|-]
 //     The dual-to-primal file is a Matrix Market integer array with two columns: for every
 //     multiplier node (0-based within block 1) the primal node it belongs to (0-based within block 0).
-//  2. The single-matrix convention of other codes' exports (shared/peer-data): PREFIX_matrix.mm
+//     Every vector file is in global id order: rhs.mm in the row order of matrix.mm, a nullspace
+//     in the DOF order of its block, coordinates (one column per direction) in its node order.
+//  2. The single-matrix convention of other codes' exports (tests/data/peer): PREFIX_matrix.mm
 //     holding primal then dual DOFs (or PREFIX_block_matrix.mm, with PREFIX_matrix.mm then being
 //     the primal block alone), PREFIX_rhs.mm (optional), PREFIX_nullspace[1].mm (its row count is the
 //     primal size) and PREFIX_interface_dof_map_MPI1.mm (a Tpetra map file of the slave DOFs; the
@@ -39,6 +41,10 @@ namespace multigrid
   /// Writes the manifest convention into DIR (replacing it atomically: written to DIR.partial,
   /// then renamed, so an interrupted run never leaves a half-written system behind).
   void write_block_system(const BlockSystem& system, const std::string& dir);
+
+  /// Writes V (a Matrix Market array, one column per vector) with row i holding global id i,
+  /// whatever the distribution; V's map must number 0..n-1. Gathers V on rank 0.
+  void write_in_global_order(const MultiVector& v, const std::string& file);
 
   /// Global ids stored in a Tpetra map file (Matrix Market integer array of (GID, PID) pairs).
   std::vector<GO> read_map_gids(const std::string& file);

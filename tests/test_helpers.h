@@ -6,6 +6,8 @@
 #include <Tpetra_Core.hpp>
 
 #include <cctype>
+#include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -16,10 +18,14 @@ namespace test_helpers
     return Tpetra::getDefaultComm();
   }
 
-  /// A file of the peer systems (shared/peer-data, beside the repository).
+  /// A file (or the prefix P of P_matrix.mm) of the peer systems in tests/data/peer. Throws when
+  /// it is missing, so the test fails instead of reading nothing.
   inline std::string peer(const std::string& name)
   {
-    return std::string(PEER_DATA_DIR) + "/" + name;
+    const std::string path = std::string(PEER_DATA_DIR) + "/" + name;
+    if (!std::filesystem::is_regular_file(path) && !std::filesystem::is_regular_file(path + "_matrix.mm"))
+      throw std::runtime_error("peer data missing: no " + path + " (nor " + path + "_matrix.mm)");
+    return path;
   }
 
   /// The contact presets of the seeds' tables (and the direct reference).

@@ -1,4 +1,4 @@
-// Validation against another code's saddle-point systems (shared/peer-data, public MueLu test data):
+// Validation against another code's saddle-point systems (tests/data/peer, MueLu's test data):
 //  - meshtying2D_small: the peer reports 16 GMRES iterations with its saddle-point AMG at a
 //    per-block relative tolerance of 1e-4; ours must need no more.
 //  - segregatedAgg: our segregated ("filtered") matrix equals the peer's, and no aggregate of the
@@ -18,7 +18,6 @@
 
 #include "test_helpers.h"
 
-#include <filesystem>
 #include <fstream>
 #include <queue>
 #include <set>
@@ -27,7 +26,6 @@
 using namespace multigrid;
 using test_helpers::comm;
 using test_helpers::peer;
-namespace fs = std::filesystem;
 
 namespace
 {
@@ -79,8 +77,6 @@ namespace
 
 TEST(PeerSystems, Meshtying2DNeedsNoMoreIterationsThanThePeerCode)
 {
-  if (!fs::is_directory(PEER_DATA_DIR))
-    GTEST_SKIP() << "shared/peer-data not found at " << PEER_DATA_DIR << ": peer validation not run";
   auto                system = read_block_system(peer("meshtying2D_small"), comm());
   auto                preset = load_preset_file(std::string(TEST_DATA_DIR) + "/peer_meshtying2D.xml");
   BlockPreconditioner M(system, preset);
@@ -101,8 +97,6 @@ TEST(PeerSystems, Meshtying2DNeedsNoMoreIterationsThanThePeerCode)
 
 TEST(PeerSystems, SegregatedMatrixEqualsThePeersFilteredMatrix)
 {
-  if (!fs::is_directory(PEER_DATA_DIR))
-    GTEST_SKIP() << "shared/peer-data not found at " << PEER_DATA_DIR << ": peer validation not run";
   using IO = Xpetra::IO<SC, LO, GO, NO>;
   // The slave body: everything connected to slave interface DOF 42 once the interface couplings
   // are cut, i.e. a connected component of the peer's filtered graph.
@@ -130,8 +124,6 @@ TEST(PeerSystems, SegregatedMatrixEqualsThePeersFilteredMatrix)
 
 TEST(PeerSystems, NoPrimalAggregateContainsNodesOfBothBodies)
 {
-  if (!fs::is_directory(PEER_DATA_DIR))
-    GTEST_SKIP() << "shared/peer-data not found at " << PEER_DATA_DIR << ": peer validation not run";
   auto            system = read_block_system(peer("segregatedAgg"), comm());
   const auto      body   = component(graph_of(peer("segregatedAgg_filtered_matrix.mm")), 42);
   InterfaceInfo   info   = system.interface();
