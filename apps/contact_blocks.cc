@@ -6,6 +6,7 @@
 #include "common/app_parameters.h"
 #include "common/run_directory.h"
 #include "contact/contact_problem.h"
+#include "temporary_files.h"
 #include "trilinos_scope.h"
 #include "types.h"
 
@@ -82,15 +83,16 @@ int main(int argc, char** argv)
               }
           // Final slave-node state as CSV (for postprocessing, e.g. the Hertz comparison).
           const std::string csv = p.output_directory + "/contact_nodes.csv";
+          const std::string tmp = multigrid::unique_temporary_name(csv);
           {
-            std::ofstream out(csv + ".tmp");
+            std::ofstream out(tmp);
             out << "x,y,z,contact_pressure,weight,active\n" << std::setprecision(12);
             for (std::size_t j = 0; j < summary.active.size(); ++j)
               out << summary.slave_positions[j][0] << "," << summary.slave_positions[j][1] << ","
                   << summary.slave_positions[j][2] << "," << summary.normal_pressure[j] << "," << summary.weight[j]
                   << "," << (summary.active[j] ? 1 : 0) << "\n";
           }
-          std::filesystem::rename(csv + ".tmp", csv);
+          std::filesystem::rename(tmp, csv);
           std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
                     << ", total normal force " << force << "\n"
                     << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "

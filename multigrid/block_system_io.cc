@@ -1,5 +1,7 @@
 #include "block_system_io.h"
 
+#include "temporary_files.h"
+
 #include <Xpetra_IO.hpp>
 #include <Xpetra_ImportFactory.hpp>
 #include <Xpetra_MapFactory.hpp>
@@ -495,7 +497,12 @@ namespace multigrid
   {
     using IO                  = Xpetra::IO<SC, LO, GO, NO>;
     const auto&       comm    = *system.comm();
-    const std::string partial = dir + ".partial";
+    // The root's unique name, known to every rank (they all write into it).
+    std::string partial = unique_temporary_name(dir, "partial");
+    int         length  = static_cast<int>(partial.size());
+    Teuchos::broadcast(comm, 0, &length);
+    partial.resize(static_cast<std::size_t>(length));
+    Teuchos::broadcast(comm, 0, length, partial.data());
     on_root(comm, [&] {
       std::error_code ec;
       fs::remove_all(partial, ec);

@@ -1,5 +1,7 @@
 #include "krylov_solver.h"
 
+#include "temporary_files.h"
+
 #include <Tpetra_MultiVector.hpp>
 #include <Tpetra_Operator.hpp>
 #include <Xpetra_TpetraMultiVector.hpp>
@@ -228,7 +230,7 @@ namespace multigrid
 
   void write_json_atomically(const std::string& file, const std::string& json)
   {
-    const std::string tmp = file + ".tmp";
+    const std::string tmp = unique_temporary_name(file);
     {
       std::ofstream out(tmp);
       out << json << "\n";

@@ -47,7 +47,8 @@ namespace multigrid
   /// Human-readable table (rank 0 prints it).
   void print_report(std::ostream& out, const SolveReport& report);
 
-  /// One JSON object; written to FILE.tmp and renamed, so readers never see a partial file.
+  /// One JSON object; written to a temporary of its own beside FILE and renamed, so readers never
+  /// see a partial file.
   std::string to_json(const SolveReport& report);
   void        write_json_atomically(const std::string& file, const std::string& json);
 } // namespace multigrid

@@ -258,9 +258,35 @@ namespace multigrid
 
   std::string preset_directory()
   {
-    if (const char* env = std::getenv("SADDLE_POINT_PRESETS"))
-      return env;
-    return SADDLE_POINT_PRESET_DIR; // set by CMake: the source tree's multigrid/presets
+    if (const char* env = std::getenv("SADDLE_POINT_PRESETS"); env && *env)
+      {
+        if (!fs::is_directory(env))
+          throw InputError(std::string("SADDLE_POINT_PRESETS=") + env + ": not a directory");
+        return env;
+      }
+    // The presets are data beside the executable, never the source tree: an installed app in
+    // PREFIX/bin reads PREFIX/share/<project>/presets, one in the build tree (build/apps,
+    // build/tests) the copy CMake keeps in build/share/<project>/presets. CMake sets both paths,
+    // relative to the executable's directory.
+    std::error_code ec;
+    const fs::path  executable = fs::read_symlink("/proc/self/exe", ec);
+    if (ec)
+      throw InputError("solver presets: cannot locate the running executable (/proc/self/exe: " +
+                       ec.message() + "); set SADDLE_POINT_PRESETS to the presets directory");
+    std::vector<std::string> looked;
+    for (const char* relative : {SADDLE_POINT_INSTALLED_PRESETS, SADDLE_POINT_BUILD_PRESETS})
+      {
+        const fs::path directory = (executable.parent_path() / relative).lexically_normal();
+        if (fs::is_directory(directory))
+          return directory.string();
+        if (std::find(looked.begin(), looked.end(), directory.string()) == looked.end())
+          looked.push_back(directory.string());
+      }
+    std::string where;
+    for (const auto& d : looked)
+      where += (where.empty() ? "" : " and ") + d;
+    throw InputError("solver presets not found: looked in " + where + " (relative to " + executable.string() +
+                     "); install the project or set SADDLE_POINT_PRESETS to the presets directory");
   }
 
   std::vector<std::string> available_presets()

@@ -27,7 +27,9 @@ namespace multigrid
     Teuchos::ParameterList parameters;
   };
 
-  /// Directory holding the preset XML files (build tree copy, or $SADDLE_POINT_PRESETS).
+  /// Directory holding the preset XML files: $SADDLE_POINT_PRESETS if set, else found relative to
+  /// the running executable (PREFIX/share/<project>/presets when installed, the build tree's copy
+  /// build/share/<project>/presets otherwise). Throws InputError naming where it looked.
   std::string preset_directory();
 
   /// Names of all presets shipped in preset_directory(), in a stable order.

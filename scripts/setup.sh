@@ -30,7 +30,8 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 
 jobs="$(nproc)"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Warnings are errors here (CI): the project's own code builds warning-free with -Wall -Wextra.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSADDLE_POINT_WERROR=ON >/dev/null
 cmake --build build -j "$jobs"
 
 case "$mode" in

@@ -220,6 +220,8 @@ TEST(Presets, OverridesAreTypedAndChecked)
     {
       const auto preset = load_preset(name);
       if (preset.kind == "saddle-point-amg")
-        EXPECT_NO_THROW(expand_template(preset, 2, 2)) << name;
+        {
+          EXPECT_NO_THROW(expand_template(preset, 2, 2)) << name;
+        }
     }
 }

@@ -20,17 +20,17 @@ namespace
   /// integrands are polynomials and the quadrature is exact.
   Face<3> parallelogram()
   {
-    return {{0.1, 0.2, 0.5}, {0.6, 0.25, 0.5}, {0.7, 0.75, 0.5}, {0.2, 0.7, 0.5}};
+    return {{{0.1, 0.2, 0.5}}, {{0.6, 0.25, 0.5}}, {{0.7, 0.75, 0.5}}, {{0.2, 0.7, 0.5}}};
   }
   /// A distorted, slightly warped quadrilateral.
   Face<3> slave_quad()
   {
-    return {{0.1, 0.2, 0.5}, {0.6, 0.15, 0.5}, {0.65, 0.7, 0.52}, {0.05, 0.6, 0.5}};
+    return {{{0.1, 0.2, 0.5}}, {{0.6, 0.15, 0.5}}, {{0.65, 0.7, 0.52}}, {{0.05, 0.6, 0.5}}};
   }
   /// Large master face below (master body below: outward normal +z, counterclockwise from above).
   Face<3> master_quad(double size = 2.0)
   {
-    return {{-size, -size, 0.49}, {size, -size, 0.49}, {size, size, 0.49}, {-size, size, 0.49}};
+    return {{{-size, -size, 0.49}}, {{size, -size, 0.49}}, {{size, size, 0.49}}, {{-size, size, 0.49}}};
   }
   /// Slave body above: outward normal -z, so the slave face runs clockwise seen from above.
   template <class F>
@@ -64,7 +64,9 @@ TEST(MortarIntegration, DualShapeFunctionsMakeDDiagonal3D)
         for (std::size_t k = 0; k < xs.size(); ++k)
           {
             if (j != k)
-              EXPECT_NEAR(pair.D[j][k], 0.0, 1e-12) << "tri " << tri << " j " << j << " k " << k;
+              {
+                EXPECT_NEAR(pair.D[j][k], 0.0, 1e-12) << "tri " << tri << " j " << j << " k " << k;
+              }
             area += pair.D[j][k];
           }
       for (std::size_t j = 0; j < xs.size(); ++j)
@@ -81,8 +83,8 @@ TEST(MortarIntegration, DualShapeFunctionsMakeDDiagonal3D)
 
 TEST(MortarIntegration, DualShapeFunctionsMakeDDiagonal2D)
 {
-  const Face<2> xs{{0.7, 0.5}, {0.1, 0.52}}; // body above: outward normal points down
-  const Face<2> xm{{-1.0, 0.49}, {2.0, 0.49}};
+  const Face<2> xs{{{0.7, 0.5}}, {{0.1, 0.52}}}; // body above: outward normal points down
+  const Face<2> xm{{{-1.0, 0.49}}, {{2.0, 0.49}}};
   const auto    pair = integrate_pair<double, 2>(xs, xm, true);
   ASSERT_TRUE(pair.overlap);
   EXPECT_NEAR(pair.D[0][1], 0.0, 1e-14);
@@ -110,8 +112,8 @@ TEST(MortarIntegration, DualShapeFunctionsOnDistortedFace)
 TEST(MortarIntegration, PartialOverlapArea3D)
 {
   // Unit square slave at z = 0 (facing -z), master square shifted by (0.5, 0.25): overlap 0.5 x 0.75.
-  const Face<3> xs = reversed(Face<3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
-  const Face<3> xm{{0.5, 0.25, -0.01}, {1.5, 0.25, -0.01}, {1.5, 1.25, -0.01}, {0.5, 1.25, -0.01}};
+  const Face<3> xs = reversed(Face<3>{{{0, 0, 0}}, {{1, 0, 0}}, {{1, 1, 0}}, {{0, 1, 0}}});
+  const Face<3> xm{{{0.5, 0.25, -0.01}}, {{1.5, 0.25, -0.01}}, {{1.5, 1.25, -0.01}}, {{0.5, 1.25, -0.01}}};
   const auto    pair = integrate_pair<double, 3>(xs, xm, false);
   ASSERT_TRUE(pair.overlap);
   double total = 0;
@@ -165,10 +167,10 @@ void check_linearization(const Face<dim>& xs, const Face<dim>& xm, bool dual)
 TEST(MortarIntegration, LinearizationMatchesFiniteDifferences)
 {
   // Partial overlaps (clip polygon vertices move with the nodes), distorted faces.
-  check_linearization<2>({{0.7, 0.5}, {0.1, 0.53}}, {{0.3, 0.49}, {0.9, 0.47}}, true);
-  check_linearization<2>({{0.7, 0.5}, {0.1, 0.53}}, {{0.3, 0.49}, {0.9, 0.47}}, false);
+  check_linearization<2>({{{0.7, 0.5}}, {{0.1, 0.53}}}, {{{0.3, 0.49}}, {{0.9, 0.47}}}, true);
+  check_linearization<2>({{{0.7, 0.5}}, {{0.1, 0.53}}}, {{{0.3, 0.49}}, {{0.9, 0.47}}}, false);
   const Face<3> xs = reversed(slave_quad());
-  const Face<3> xm{{0.3, 0.35, 0.49}, {0.9, 0.3, 0.47}, {0.95, 0.9, 0.5}, {0.25, 0.85, 0.48}};
+  const Face<3> xm{{{0.3, 0.35, 0.49}}, {{0.9, 0.3, 0.47}}, {{0.95, 0.9, 0.5}}, {{0.25, 0.85, 0.48}}};
   check_linearization<3>(xs, xm, true);
   check_linearization<3>(xs, xm, false);
   Face<3> tri = xs;

@@ -1,5 +1,7 @@
 #include "beam_solid/beam_output.h"
 
+#include "temporary_files.h"
+
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -36,7 +38,7 @@ namespace physics::beam_solid
           }
       }
     const std::size_t per_element = subdivisions + 1;
-    const std::string tmp         = file + ".tmp";
+    const std::string tmp         = multigrid::unique_temporary_name(file);
     {
       std::ofstream out(tmp);
       if (!out)

@@ -176,7 +176,7 @@ namespace physics::beam_solid
         auto& entries = rows_[j];
         for (const auto& [column, weight] : row)
           {
-            entries.push_back({{column, column + 1, column + 2}, weight});
+            entries.push_back({{{column, column + 1, column + 2}}, weight});
             if (column >= n_beam_dofs_)
               for (unsigned int c = 0; c < 3; ++c)
                 solid_dofs.insert(column - n_beam_dofs_ + c);

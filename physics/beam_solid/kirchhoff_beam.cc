@@ -146,7 +146,7 @@ namespace physics::beam_solid
                 long a, b;
                 if (!(fields >> a >> b) || !index_of_node.count(a) || !index_of_node.count(b))
                   fail("line element " + std::to_string(id) + " refers to unknown nodes");
-                mesh.elements.push_back({index_of_node[a], index_of_node[b]});
+                mesh.elements.push_back({{index_of_node[a], index_of_node[b]}});
               }
           }
       }
@@ -176,7 +176,7 @@ namespace physics::beam_solid
     for (int i = 0; i <= n_elements; ++i)
       mesh.nodes.push_back(a + (b - a) * (static_cast<double>(i) / n_elements));
     for (int i = 0; i < n_elements; ++i)
-      mesh.elements.push_back({first + i, first + i + 1});
+      mesh.elements.push_back({{first + i, first + i + 1}});
   }
 
   BeamSection BeamSection::circular(double youngs_modulus, double radius)

@@ -1,5 +1,7 @@
 #include "common/run_output.h"
 
+#include "temporary_files.h"
+
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -69,7 +71,7 @@ namespace physics
   void PvdSeries::add(double time, const std::string& pvtu)
   {
     entries_.emplace_back(time, pvtu);
-    const std::string tmp = file_ + ".tmp";
+    const std::string tmp = multigrid::unique_temporary_name(file_);
     {
       std::ofstream out(tmp, std::ios::trunc);
       if (!out)

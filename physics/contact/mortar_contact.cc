@@ -59,7 +59,7 @@ namespace physics::contact
       std::array<Point<T, dim>, dim> frame;
       frame[0] = n;
       if constexpr (dim == 2)
-        frame[1] = {-n[1], n[0]};
+        frame[1] = {{-n[1], n[0]}};
       else
         {
           // First tangent: the coordinate axis least aligned with n, made orthogonal to n.

@@ -64,7 +64,7 @@ namespace physics::contact
   template <typename T>
   Point<T, 3> cross(const Point<T, 3>& a, const Point<T, 3>& b)
   {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
   }
 
   /// Number of face nodes -> reference element: 2 = segment, 3 = triangle, 4 = quadrilateral.
@@ -86,9 +86,9 @@ namespace physics::contact
         N[0]  = 1.0 - xi[0] - xi[1];
         N[1]  = xi[0];
         N[2]  = xi[1];
-        dN[0] = {-1.0, -1.0};
-        dN[1] = {1.0, 0.0};
-        dN[2] = {0.0, 1.0};
+        dN[0] = {{-1.0, -1.0}};
+        dN[1] = {{1.0, 0.0}};
+        dN[2] = {{0.0, 1.0}};
       }
     else
       {
@@ -139,7 +139,7 @@ namespace physics::contact
     Point<T, dim> g0, g1;
     face_point_and_tangents<T, dim>(x, xi, position, g0, g1);
     if constexpr (dim == 2)
-      normal = {g0[1], -g0[0]};
+      normal = {{g0[1], -g0[0]}};
     else
       normal = cross<T>(g0, g1);
   }
@@ -149,7 +149,7 @@ namespace physics::contact
   Point<T, dim> face_unit_normal(const std::vector<Point<T, dim>>& x)
   {
     const auto             c = face_centre_parameter(static_cast<int>(x.size()));
-    const std::array<T, 2> xi{c[0], c[1]};
+    const std::array<T, 2> xi{{c[0], c[1]}};
     Point<T, dim>          p, n;
     face_geometry<T, dim>(x, xi, p, n);
     const T len = sqrt_of(dot<T, dim>(n, n));
@@ -166,7 +166,7 @@ namespace physics::contact
   {
     const int        n = static_cast<int>(x.size());
     const auto       c = face_centre_parameter(n);
-    std::array<T, 2> xi{c[0], c[1]};
+    std::array<T, 2> xi{{c[0], c[1]}};
     T                alpha = 0.0;
     for (int it = 0; it < 20; ++it)
       {
@@ -189,7 +189,7 @@ namespace physics::contact
         else
           {
             // Cramer's rule for the 3x3 system [g0 g1 -n0] delta = -r.
-            const Point<T, 3> m{-n0[0], -n0[1], -n0[2]}, b{-r[0], -r[1], -r[2]};
+            const Point<T, 3> m{{-n0[0], -n0[1], -n0[2]}}, b{{-r[0], -r[1], -r[2]}};
             const T           det = dot<T, 3>(g0, cross<T>(g1, m));
             const T           d0  = dot<T, 3>(b, cross<T>(g1, m)) / det;
             const T           d1  = dot<T, 3>(g0, cross<T>(b, m)) / det;
@@ -220,14 +220,14 @@ namespace physics::contact
     if (n == 2)
       for (int i = 0; i < 3; ++i)
         {
-          points.push_back({g[i], 0.0});
+          points.push_back({{g[i], 0.0}});
           weights.push_back(w[i]);
         }
     else if (n == 4)
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           {
-            points.push_back({g[i], g[j]});
+            points.push_back({{g[i], g[j]}});
             weights.push_back(w[i] * w[j]);
           }
     else
@@ -236,8 +236,8 @@ namespace physics::contact
         const double s = std::sqrt(15.0);
         const double a1 = (6.0 - s) / 21.0, a2 = (6.0 + s) / 21.0;
         const double w1 = (155.0 - s) / 2400.0, w2 = (155.0 + s) / 2400.0;
-        points  = {{1.0 / 3.0, 1.0 / 3.0}, {a1, a1}, {1 - 2 * a1, a1}, {a1, 1 - 2 * a1},
-                   {a2, a2},               {1 - 2 * a2, a2}, {a2, 1 - 2 * a2}};
+        points  = {{{1.0 / 3.0, 1.0 / 3.0}}, {{a1, a1}}, {{1 - 2 * a1, a1}}, {{a1, 1 - 2 * a1}},
+                   {{a2, a2}},               {{1 - 2 * a2, a2}}, {{a2, 1 - 2 * a2}}};
         weights = {9.0 / 80.0, w1, w1, w1, w2, w2, w2};
       }
   }
@@ -258,7 +258,7 @@ namespace physics::contact
     const FaceQuadrature        q(n);
     for (std::size_t i = 0; i < q.points.size(); ++i)
       {
-        const std::array<T, 2>          xi{q.points[i][0], q.points[i][1]};
+        const std::array<T, 2>          xi{{q.points[i][0], q.points[i][1]}};
         std::array<T, 4>                N;
         std::array<std::array<T, 2>, 4> dN;
         face_shape_functions<T>(n, xi, N, dN);
@@ -340,7 +340,7 @@ namespace physics::contact
             if (ip != iq)
               {
                 const T t = sp / (sp - sq);
-                out.push_back({p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])});
+                out.push_back({{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])}});
               }
           }
         subject = std::move(out);
@@ -361,7 +361,7 @@ namespace physics::contact
     Point<T, dim> x0, n0;
     {
       const auto             c = face_centre_parameter(ns);
-      const std::array<T, 2> xi{c[0], c[1]};
+      const std::array<T, 2> xi{{c[0], c[1]}};
       face_geometry<T, dim>(xs, xi, x0, n0);
       const T len = sqrt_of(dot<T, dim>(n0, n0));
       for (int d = 0; d < dim; ++d)
@@ -388,7 +388,7 @@ namespace physics::contact
       Point<T, dim> r;
       for (int d = 0; d < dim; ++d)
         r[d] = p[d] - x0[d];
-      std::array<T, 2> s{dot<T, dim>(r, e1), T(0.0)};
+      std::array<T, 2> s{{dot<T, dim>(r, e1), T(0.0)}};
       if constexpr (dim == 3)
         s[1] = dot<T, dim>(r, e2);
       return s;
@@ -422,7 +422,7 @@ namespace physics::contact
         const FaceQuadrature q(2);
         for (std::size_t i = 0; i < q.points.size(); ++i)
           {
-            qp.push_back({(a + b) / 2.0 + (b - a) / 2.0 * q.points[i][0], T(0.0)});
+            qp.push_back({{(a + b) / 2.0 + (b - a) / 2.0 * q.points[i][0], T(0.0)}});
             qw.push_back((b - a) / 2.0 * q.weights[i]);
           }
       }
@@ -451,7 +451,7 @@ namespace physics::contact
         const auto poly = clip_polygon<T>(master_poly, slave_poly);
         if (poly.size() < 3 || value_of(signed_area(poly)) <= relative_tolerance * value_of(slave_measure))
           return result;
-        std::array<T, 2> c{T(0.0), T(0.0)};
+        std::array<T, 2> c{{T(0.0), T(0.0)}};
         for (const auto& p : poly)
           {
             c[0] += p[0] / static_cast<double>(poly.size());
@@ -466,8 +466,8 @@ namespace physics::contact
             for (std::size_t i = 0; i < q.points.size(); ++i)
               {
                 const double u = q.points[i][0], v = q.points[i][1];
-                qp.push_back({c[0] + u * (p[0] - c[0]) + v * (r[0] - c[0]),
-                              c[1] + u * (p[1] - c[1]) + v * (r[1] - c[1])});
+                qp.push_back({{c[0] + u * (p[0] - c[0]) + v * (r[0] - c[0]),
+                              c[1] + u * (p[1] - c[1]) + v * (r[1] - c[1])}});
                 qw.push_back(a2 * q.weights[i]);
               }
           }
