@@ -209,8 +209,8 @@ namespace multigrid
                          " primal rows leave no multipliers in a " + std::to_string(matrix.rows) +
                          "-row matrix");
       const int dpn = options.dofs_per_node;
-      d.blocks.push_back({"displacement", n_primal, dpn, nullspace});
-      d.blocks.push_back({"lagrange multiplier", n_dual, dpn, ""});
+      d.blocks.push_back({"displacement", n_primal, dpn, nullspace, ""});
+      d.blocks.push_back({"lagrange multiplier", n_dual, dpn, "", ""});
 
       // The k-th multiplier node belongs to the k-th slave node (ascending ids).
       auto slave = read_map_gids(interface_file);

@@ -1,10 +1,9 @@
 #include "common/run_directory.h"
 
+#include "temporary_files.h"
+
 #include <deal.II/base/mpi.h>
 
-#include <unistd.h>
-
-#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,12 +14,6 @@
 namespace physics
 {
   namespace fs = std::filesystem;
-
-  std::string temporary_name(const std::string& file)
-  {
-    static std::atomic<unsigned long> counter{0};
-    return file + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  }
 
   void prepare_output_directory(const std::string& directory, MPI_Comm comm)
   {
@@ -35,7 +28,7 @@ namespace physics
           error = "not a directory";
         else
           {
-            const std::string probe = temporary_name(directory + "/.write-test");
+            const std::string probe = multigrid::unique_temporary_name(directory + "/.write-test");
             if (!std::ofstream(probe))
               error = "not writable";
             fs::remove(probe, ec);
@@ -50,7 +43,7 @@ namespace physics
   {
     if (dealii::Utilities::MPI::this_mpi_process(comm) != 0)
       return;
-    const std::string file = directory + "/used_parameters.prm", tmp = temporary_name(file);
+    const std::string file = directory + "/used_parameters.prm", tmp = multigrid::unique_temporary_name(file);
     {
       std::ofstream out(tmp);
       prm.print_parameters(out, dealii::ParameterHandler::PRM);

@@ -27,7 +27,4 @@ namespace physics
   void log_timer_summary(const dealii::TimerOutput& timer, JsonLinesLog& log, std::ostream& console, bool root,
                          MPI_Comm comm);
 
-  /// A name for a temporary file beside `file` that no other process uses (pid and a counter):
-  /// written completely, then renamed over `file`.
-  std::string temporary_name(const std::string& file);
 } // namespace physics

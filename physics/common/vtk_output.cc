@@ -1,6 +1,6 @@
 #include "common/vtk_output.h"
 
-#include "common/run_directory.h"
+#include "temporary_files.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
@@ -19,7 +19,7 @@ namespace physics
     template <typename Writer>
     void write_atomically(const std::string& file, const Writer& content)
     {
-      const std::string tmp = temporary_name(file);
+      const std::string tmp = multigrid::unique_temporary_name(file);
       {
         std::ofstream out(tmp);
         if (!out)
