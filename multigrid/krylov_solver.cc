@@ -140,6 +140,7 @@ namespace multigrid
     Teuchos::Array<double> bnorm(1);
     system.rhs()->norm2(bnorm);
     const double scale = bnorm[0] > 0 ? bnorm[0] : 1.0;
+    report.rhs_norm    = bnorm[0];
     report.residual_history.push_back(1.0);
     for (double r : history->history)
       report.residual_history.push_back(r / scale);

@@ -29,6 +29,7 @@ namespace multigrid
     int                      iterations = 0;
     std::vector<double>      residual_history;      ///< relative (implicit) residual per iteration
     double                   relative_residual = 0; ///< true ||b - A x|| / ||b||
+    double                   rhs_norm          = 0; ///< ||b||
     std::vector<std::string> block_names;
     std::vector<double>      block_relative_residuals; ///< ||r_k|| / ||b_k|| (absolute if b_k = 0)
     double                   solve_seconds = 0;

@@ -68,7 +68,8 @@ namespace physics::beam_solid
       // The nonlinear problem of one load step (common/newton_solver.h, step_driver.h).
       std::vector<std::string> field_names() const override { return BeamSolidParameters::residual_fields(); }
       Linearization            linearize(int iteration) override;
-      void                     update(const multigrid::MultiVector& dx, double step_length) override;
+      void                     update(const multigrid::MultiVector& dx) override;
+      void                     set_update_length(double step_length) override;
       void                     begin_step(double time, double step) override;
       void                     reset_step() override;
       void                     end_step(int, double) override {}
@@ -125,6 +126,10 @@ namespace physics::beam_solid
       TrilinosWrappers::MPI::Vector u_begin_; ///< state at the step's start (reset_step)
       std::vector<double>           d_beam_begin_;
       multigrid::BlockSystem        system_;  ///< the last linearization
+      /// The last update's direction (solid, beam) and its applied length (line search).
+      TrilinosWrappers::MPI::Vector du_direction_;
+      std::vector<double>           d_beam_direction_;
+      double                        update_length_ = 1;
     };
 
     BeamSolidProblem::BeamSolidProblem(const BeamSolidParameters& p, MPI_Comm comm)
@@ -379,27 +384,35 @@ namespace physics::beam_solid
       return result;
     }
 
-    void BeamSolidProblem::update(const multigrid::MultiVector& dx, double step_length)
+    void BeamSolidProblem::update(const multigrid::MultiVector& dx)
     {
       // Solid into u, beam into the replicated beam vector.
-      const GO            n_beam = beam_.n_dofs();
-      const auto          data   = dx.getData(0);
-      const auto          map    = dx.getMap();
-      std::vector<double> d_beam(n_beam, 0.0);
-      TrilinosWrappers::MPI::Vector du(owned_, comm_);
+      const GO   n_beam = beam_.n_dofs();
+      const auto data   = dx.getData(0);
+      const auto map    = dx.getMap();
+      d_beam_direction_.assign(n_beam, 0.0);
+      du_direction_.reinit(owned_, comm_);
       for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
         {
           const GO g = map->getGlobalElement(i);
           if (g < n_beam)
-            d_beam[g] = step_length * data[i];
+            d_beam_direction_[g] = data[i];
           else
-            du[g - n_beam] = step_length * data[i];
+            du_direction_[g - n_beam] = data[i];
         }
-      du.compress(VectorOperation::insert);
-      u_ += du;
-      MPI_Allreduce(MPI_IN_PLACE, d_beam.data(), static_cast<int>(d_beam.size()), MPI_DOUBLE, MPI_SUM, comm_);
-      for (GO k = 0; k < n_beam; ++k)
-        d_beam_[k] += d_beam[k];
+      du_direction_.compress(VectorOperation::insert);
+      MPI_Allreduce(MPI_IN_PLACE, d_beam_direction_.data(), static_cast<int>(n_beam), MPI_DOUBLE, MPI_SUM, comm_);
+      update_length_ = 0;
+      set_update_length(1.0);
+    }
+
+    void BeamSolidProblem::set_update_length(double step_length)
+    {
+      const double change = step_length - update_length_;
+      u_.add(change, du_direction_);
+      for (std::size_t k = 0; k < d_beam_.size(); ++k)
+        d_beam_[k] += change * d_beam_direction_[k];
+      update_length_ = step_length;
     }
 
     BeamSolidRunSummary BeamSolidProblem::run()
@@ -419,15 +432,12 @@ namespace physics::beam_solid
       summary.converged       = result.converged;
       summary.step_cuts       = result.cuts;
       summary.failure         = result.failure;
-      for (const auto& n : result.newton)
-        {
-          summary.newton_iterations.push_back(n.iterations);
-          summary.residuals.push_back(n.residuals);
-          summary.linear_iterations.insert(summary.linear_iterations.end(), n.linear_iterations.begin(),
-                                           n.linear_iterations.end());
-          summary.setup_seconds += n.setup_seconds;
-          summary.solve_seconds += n.solve_seconds;
-        }
+      auto t = totals(result);
+      summary.newton_iterations = std::move(t.newton_iterations);
+      summary.residuals         = std::move(t.residuals);
+      summary.linear_iterations = std::move(t.linear_iterations);
+      summary.setup_seconds     = t.setup_seconds;
+      summary.solve_seconds = t.solve_seconds;
       if (!result.converged)
         pcout_ << "Newton did not converge in load step " << result.steps + 1 << ": " << result.failure << "\n";
       final_state(summary);

@@ -91,8 +91,10 @@ namespace physics
     prm.declare_entry("Restart", text(restart), Integer(1, 10000), "GMRES restart length.");
     prm.declare_entry("Accepted residual", text(accepted_linear_residual), Double(),
                       "A GMRES solve that stops unconverged is still used (inexact Newton) when its true "
-                      "relative residual is at most this; above it (or on a breakdown) the step fails and is "
-                      "cut (0 < value < 1).");
+                      "residual is at most this times ||b|| or this times the step's first Newton residual; "
+                      "above both (or on a breakdown) the step fails and is cut (0 < value < 1). The default "
+                      "tolerates an inexact solve (SuperLU without equilibration stalls near 1e-6 on contact "
+                      "systems) but not one that barely reduced the residual.");
     prm.declare_entry("Injected failures", "", Anything(),
                       "For testing the failure handling: comma-separated numbers of linear solves (counted from 1 "
                       "over the run) that are reported as failed after they ran. Empty: none.");

@@ -45,7 +45,7 @@ namespace physics
     std::vector<std::string> overrides;
     double                   linear_tolerance      = 1e-8;
     int                      linear_max_iterations = 500, restart = 100;
-    double                   accepted_linear_residual = 1e-6;
+    double                   accepted_linear_residual = 1e-3;
     std::set<int>            injected_failures; ///< testing: solves reported as failed
     // Newton, continued: divergence, line search, per-field tolerances (field name -> values set
     // in the file; fields not listed use the two tolerances above)

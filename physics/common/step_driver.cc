@@ -101,4 +101,18 @@ namespace physics
     result.converged = true;
     return result;
   }
+
+  StepsTotals totals(const StepsResult& result)
+  {
+    StepsTotals t;
+    for (const auto& n : result.newton)
+      {
+        t.newton_iterations.push_back(n.iterations);
+        t.residuals.push_back(n.residuals);
+        t.linear_iterations.insert(t.linear_iterations.end(), n.linear_iterations.begin(), n.linear_iterations.end());
+        t.setup_seconds += n.setup_seconds;
+        t.solve_seconds += n.solve_seconds;
+      }
+    return t;
+  }
 } // namespace physics

@@ -56,6 +56,16 @@ namespace physics
     std::string               failure;       ///< why the run stopped (empty if it finished)
   };
 
+  /// What run summaries report, gathered over StepsResult::newton.
+  struct StepsTotals
+  {
+    std::vector<int>                 newton_iterations; ///< per step
+    std::vector<std::vector<double>> residuals;         ///< per step: per iterate
+    std::vector<int>                 linear_iterations; ///< per solve
+    double                           setup_seconds = 0, solve_seconds = 0;
+  };
+  StepsTotals totals(const StepsResult& result);
+
   /// Runs all steps. Every attempt's log lines carry "load_step" (the number the step gets when it
   /// converges), "time", "step_size" and "attempt"; a failed attempt adds an event line
   /// {"event": "step_cut", "reason": ..., "failed_step_size": ..., "new_step_size": ...}.

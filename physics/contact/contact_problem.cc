@@ -46,7 +46,8 @@ namespace physics::contact
       Linearization            linearize(int iteration) override;
       /// Semi-smooth Newton: an iterate counts only when its evaluation left the active set as it was.
       bool        may_converge() const override { return !active_set_changed_; }
-      void        update(const multigrid::MultiVector& dx, double step_length) override;
+      void        update(const multigrid::MultiVector& dx) override;
+      void        set_update_length(double step_length) override;
       void        describe(JsonLinesLog::Line& line, std::ostream& console) const override;
       std::string console_header() const override { return "   active  changed"; }
       void        begin_step(double time, double step) override;
@@ -117,6 +118,11 @@ namespace physics::contact
       bool                          active_set_changed_ = true;
       ContactLinearSystem           linear_;      ///< the last linearization
       std::map<std::size_t, double> lifted_;      ///< local row -> prescribed target (first update)
+      /// The last update's Newton direction without the prescribed rows, and its applied length
+      /// (line search).
+      TrilinosWrappers::MPI::Vector du_direction_;
+      std::vector<double>           dlambda_direction_;
+      double                        update_length_ = 1;
     };
 
     template <int dim>
@@ -493,29 +499,41 @@ namespace physics::contact
     }
 
     template <int dim>
-    void ContactProblem<dim>::update(const multigrid::MultiVector& dx, double step_length)
+    void ContactProblem<dim>::update(const multigrid::MultiVector& dx)
     {
       // From the system's rows (assembly numbering) to u and lambda. Lifted rows go to their
-      // targets whatever the step length: a line search scales the Newton direction, not the
-      // prescribed boundary values.
+      // targets; they are not part of the direction a line search scales.
       const auto          data = dx.getData(0);
-      std::vector<double> dlambda(lambda_.size(), 0.0);
-      TrilinosWrappers::MPI::Vector du(owned_, comm_);
+      dlambda_direction_.assign(lambda_.size(), 0.0);
+      du_direction_.reinit(owned_, comm_);
+      TrilinosWrappers::MPI::Vector lifted(owned_, comm_);
       for (std::size_t i = 0; i < linear_.assembly_index.size(); ++i)
         {
           const GlobalIndex a = linear_.assembly_index[i];
           if (a >= dof_handler_.n_dofs())
-            dlambda[a - dof_handler_.n_dofs()] = step_length * data[i];
-          else if (const auto lifted = lifted_.find(i); lifted != lifted_.end())
-            du[a] = lifted->second - u_[a];
+            dlambda_direction_[a - dof_handler_.n_dofs()] = data[i];
+          else if (const auto target = lifted_.find(i); target != lifted_.end())
+            lifted[a] = target->second - u_[a];
           else
-            du[a] = step_length * data[i];
+            du_direction_[a] = data[i];
         }
-      du.compress(VectorOperation::insert);
-      u_ += du;
-      MPI_Allreduce(MPI_IN_PLACE, dlambda.data(), static_cast<int>(dlambda.size()), MPI_DOUBLE, MPI_SUM, comm_);
+      du_direction_.compress(VectorOperation::insert);
+      lifted.compress(VectorOperation::insert);
+      MPI_Allreduce(MPI_IN_PLACE, dlambda_direction_.data(), static_cast<int>(dlambda_direction_.size()), MPI_DOUBLE,
+                    MPI_SUM, comm_);
+      u_ += lifted;
+      update_length_ = 0;
+      set_update_length(1.0);
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::set_update_length(double step_length)
+    {
+      const double change = step_length - update_length_;
+      u_.add(change, du_direction_);
       for (std::size_t k = 0; k < lambda_.size(); ++k)
-        lambda_[k] += dlambda[k];
+        lambda_[k] += change * dlambda_direction_[k];
+      update_length_ = step_length;
     }
 
     template <int dim>
@@ -555,15 +573,12 @@ namespace physics::contact
       summary_.load_steps_done = result.steps;
       summary_.step_cuts       = result.cuts;
       summary_.failure         = result.failure;
-      for (const auto& n : result.newton)
-        {
-          summary_.newton_iterations.push_back(n.iterations);
-          summary_.residuals.push_back(n.residuals);
-          summary_.linear_iterations.insert(summary_.linear_iterations.end(), n.linear_iterations.begin(),
-                                            n.linear_iterations.end());
-          summary_.setup_seconds += n.setup_seconds;
-          summary_.linear_seconds += n.solve_seconds;
-        }
+      auto t = totals(result);
+      summary_.newton_iterations = std::move(t.newton_iterations);
+      summary_.residuals         = std::move(t.residuals);
+      summary_.linear_iterations = std::move(t.linear_iterations);
+      summary_.setup_seconds     = t.setup_seconds;
+      summary_.linear_seconds = t.solve_seconds;
       if (!result.converged)
         pcout_ << "Newton did not converge in load step " << result.steps + 1 << ": " << result.failure << "\n";
       final_state(summary_);
