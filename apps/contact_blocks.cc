@@ -68,7 +68,7 @@ int main(int argc, char** argv)
                     << (summary.linear_iterations.empty() ? 0.0
                                                           : double(total_linear) / summary.linear_iterations.size())
                     << ", max " << max_linear << "; setup " << summary.setup_seconds << " s, solve "
-                    << summary.linear_seconds << " s; " << (summary.converged ? "converged" : "NOT converged")
+                    << summary.solve_seconds << " s; " << (summary.converged ? "converged" : "NOT converged")
                     << "\n";
           double p_min = 0, p_max = 0, force = 0;
           int    n_active = 0;

@@ -429,15 +429,7 @@ namespace physics::beam_solid
       summary.beam_dofs       = beam_.n_dofs();
       summary.solid_dofs      = dof_handler_.n_dofs();
       summary.coupling_points = coupling_->n_points();
-      summary.converged       = result.converged;
-      summary.step_cuts       = result.cuts;
-      summary.failure         = result.failure;
-      auto t = totals(result);
-      summary.newton_iterations = std::move(t.newton_iterations);
-      summary.residuals         = std::move(t.residuals);
-      summary.linear_iterations = std::move(t.linear_iterations);
-      summary.setup_seconds     = t.setup_seconds;
-      summary.solve_seconds = t.solve_seconds;
+      summary.record(result);
       if (!result.converged)
         pcout_ << "Newton did not converge in load step " << result.steps + 1 << ": " << result.failure << "\n";
       final_state(summary);

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "common/solver_parameters.h"
+#include "common/step_driver.h"
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -54,15 +55,8 @@ namespace physics::beam_solid
     void parse(dealii::ParameterHandler& prm);
   };
 
-  struct BeamSolidRunSummary
+  struct BeamSolidRunSummary : RunSummary
   {
-    bool                             converged = true;
-    int                              step_cuts = 0;      ///< failed attempts, each retried with half the step
-    std::string                      failure;            ///< why the run stopped (empty: it finished)
-    std::vector<int>                 newton_iterations;  ///< per load step
-    std::vector<int>                 linear_iterations;  ///< per Newton step
-    std::vector<std::vector<double>> residuals;          ///< per load step
-    double setup_seconds = 0, solve_seconds = 0;
     long long beam_dofs = 0, solid_dofs = 0;
     std::size_t coupling_points = 0;
     /// Final state: the loaded face's mean x displacement and the largest beam/solid gap.

@@ -102,17 +102,19 @@ namespace physics
     return result;
   }
 
-  StepsTotals totals(const StepsResult& result)
+  void RunSummary::record(const StepsResult& result)
   {
-    StepsTotals t;
+    converged       = result.converged;
+    load_steps_done = result.steps;
+    step_cuts       = result.cuts;
+    failure         = result.failure;
     for (const auto& n : result.newton)
       {
-        t.newton_iterations.push_back(n.iterations);
-        t.residuals.push_back(n.residuals);
-        t.linear_iterations.insert(t.linear_iterations.end(), n.linear_iterations.begin(), n.linear_iterations.end());
-        t.setup_seconds += n.setup_seconds;
-        t.solve_seconds += n.solve_seconds;
+        newton_iterations.push_back(n.iterations);
+        residuals.push_back(n.residuals);
+        linear_iterations.insert(linear_iterations.end(), n.linear_iterations.begin(), n.linear_iterations.end());
+        setup_seconds += n.setup_seconds;
+        solve_seconds += n.solve_seconds;
       }
-    return t;
   }
 } // namespace physics

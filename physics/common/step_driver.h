@@ -56,15 +56,22 @@ namespace physics
     std::string               failure;       ///< why the run stopped (empty if it finished)
   };
 
-  /// What run summaries report, gathered over StepsResult::newton.
-  struct StepsTotals
+  /// What every problem class's run summary reports about its steps (the classes add their
+  /// physics' final state).
+  struct RunSummary
   {
-    std::vector<int>                 newton_iterations; ///< per step
-    std::vector<std::vector<double>> residuals;         ///< per step: per iterate
-    std::vector<int>                 linear_iterations; ///< per solve
+    bool                             converged = true;
+    int                              load_steps_done = 0; ///< converged load/time steps
+    int                              step_cuts       = 0; ///< failed attempts, each retried with half the step
+    std::string                      failure;             ///< why the run stopped (empty: it finished)
+    std::vector<int>                 newton_iterations;   ///< per step
+    std::vector<std::vector<double>> residuals;           ///< per step: combined residual norm per iterate
+    std::vector<int>                 linear_iterations;   ///< per solve, all steps
     double                           setup_seconds = 0, solve_seconds = 0;
+
+    /// Fills every field from the driver's result.
+    void record(const StepsResult& result);
   };
-  StepsTotals totals(const StepsResult& result);
 
   /// Runs all steps. Every attempt's log lines carry "load_step" (the number the step gets when it
   /// converges), "time", "step_size" and "attempt"; a failed attempt adds an event line

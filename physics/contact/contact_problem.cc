@@ -569,16 +569,7 @@ namespace physics::contact
                                            : p_.solver.step_settings(1.0, 1.0 / p_.load_steps);
       const StepsResult result = run_steps(*this, steps, newton, log_, pcout_);
 
-      summary_.converged       = result.converged;
-      summary_.load_steps_done = result.steps;
-      summary_.step_cuts       = result.cuts;
-      summary_.failure         = result.failure;
-      auto t = totals(result);
-      summary_.newton_iterations = std::move(t.newton_iterations);
-      summary_.residuals         = std::move(t.residuals);
-      summary_.linear_iterations = std::move(t.linear_iterations);
-      summary_.setup_seconds     = t.setup_seconds;
-      summary_.linear_seconds = t.solve_seconds;
+      summary_.record(result);
       if (!result.converged)
         pcout_ << "Newton did not converge in load step " << result.steps + 1 << ": " << result.failure << "\n";
       final_state(summary_);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "common/solver_parameters.h"
+#include "common/step_driver.h"
 #include "contact/mortar_contact.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -63,16 +64,9 @@ namespace physics::contact
   };
 
   /// What a run measured (for tests and the final summary).
-  struct ContactRunSummary
+  struct ContactRunSummary : RunSummary
   {
-    int                 load_steps_done = 0;     ///< converged load/time steps
-    std::vector<int>    newton_iterations;           ///< per converged load step
-    std::vector<int>    linear_iterations;           ///< per Newton step, all steps
-    std::vector<std::vector<double>> residuals;      ///< per load step: residual norm per Newton step
     std::vector<int>    active_set_sizes;            ///< per Newton step
-    bool                converged = true;
-    int                 step_cuts = 0;               ///< failed attempts, each retried with half the step
-    std::string         failure;                     ///< why the run stopped (empty: it finished)
     // Final state on the slave side (identical on every rank)
     std::vector<std::array<double, 3>> slave_positions; ///< current, padded with 0 in 2D
     std::vector<double>                normal_pressure; ///< lambda_n
@@ -80,7 +74,6 @@ namespace physics::contact
     std::vector<bool>                  active;
     double                             max_displacement = 0; ///< max |u| over all nodes
     double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
-    double                             linear_seconds = 0, setup_seconds = 0;
     // Dynamics: after each time step (index 0: the initial state)
     std::vector<double> time, kinetic_energy, strain_energy;
   };
