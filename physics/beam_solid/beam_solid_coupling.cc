@@ -6,6 +6,10 @@
 #include <deal.II/fe/mapping_q1.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/grid_tools_cache.h>
+#include <deal.II/numerics/rtree.h>
+
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
 
 #include <set>
 #include <sstream>
@@ -34,27 +38,30 @@ namespace physics::beam_solid
       return a + (b - a) * (0.5 * (xi + 1)); // straight reference elements
     }
 
-    /// The cell containing p (and p's unit coordinates); throws with the beam point's location.
-    std::pair<CellIterator, Point<3>> locate(const GridTools::Cache<3>& cache, const Point<3>& p, std::size_t e,
-                                             const std::string& source)
+    /// Of the locally known cells containing p (within deal.II's unit-cell tolerance), the one
+    /// with the smallest CellId, or an invalid iterator if this rank knows none. The owner of
+    /// that cell knows every cell containing p (they all touch p, so they are its neighbours or
+    /// ghosts), hence exactly one rank finds its own cell here: a point on a face shared by two
+    /// ranks' cells is integrated once.
+    CellIterator agreed_cell(const GridTools::Cache<3>& cache, const Point<3>& p)
     {
-      std::pair<CellIterator, Point<3>> found;
+      std::pair<CellIterator, Point<3>> first;
       try
         {
-          found = GridTools::find_active_cell_around_point(cache, p);
+          first = GridTools::find_active_cell_around_point(cache, p);
         }
       catch (...)
         {
-          found.first = CellIterator();
+          return CellIterator();
         }
-      if (found.first.state() != IteratorState::valid)
-        {
-          std::ostringstream where;
-          where << p;
-          throw std::invalid_argument(source + ": beam element " + std::to_string(e) + " has a point (" + where.str() +
-                                      ") outside the solid");
-        }
-      return found;
+      if (first.first.state() != IteratorState::valid || first.first->is_artificial())
+        return CellIterator();
+      CellIterator best = first.first;
+      for (const auto& [cell, unit] : GridTools::find_all_active_cells_around_point(
+               cache.get_mapping(), cache.get_triangulation(), p, 1e-10, first))
+        if (!cell->is_artificial() && cell->id() < best->id())
+          best = cell;
+      return best;
     }
 
     bool inside(const Mapping<3>& mapping, const CellIterator& cell, const Point<3>& p)
@@ -69,39 +76,156 @@ namespace physics::beam_solid
         }
     }
 
-    /// Segment-based: split [-1, 1] where the centreline leaves a cell (bisection on xi; hexahedra
-    /// are convex, so a straight piece leaves each cell once), Gauss points on every piece.
-    void mortar_points(const BeamMesh& beam, std::size_t e, const GridTools::Cache<3>& cache,
-                       const QGauss<1>& gauss, const std::string& source, std::vector<IntegrationPoint>& points)
+    /// Bisection for where a straight centreline crosses the boundary of a (convex) hexahedron:
+    /// `in` inside, `out` outside; returns the last inside parameter (to ~1e-14).
+    double crossing(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping, const CellIterator& cell,
+                    double in, double out)
+    {
+      for (int k = 0; k < 60 && std::abs(out - in) > 1e-14; ++k)
+        {
+          const double mid = 0.5 * (in + out);
+          (inside(mapping, cell, position(beam, e, mid)) ? in : out) = mid;
+        }
+      return in;
+    }
+
+    /// The part [a, b] of element e's centreline inside `cell` (hexahedra are convex, so it is one
+    /// interval); false if the centreline misses the cell. A point inside is searched among
+    /// samples of the part within the cell's bounding box, then both ends are found by bisection.
+    bool piece_in_cell(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping, const CellIterator& cell,
+                       const BoundingBox<3>& box, double& a, double& b)
+    {
+      // Slab clipping of the straight segment against the bounding box.
+      const Point<3> p0 = position(beam, e, -1.0), p1 = position(beam, e, 1.0);
+      double         t0 = -1.0, t1 = 1.0;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          const double dx = 0.5 * (p1[d] - p0[d]);
+          const double lo = box.get_boundary_points().first[d], hi = box.get_boundary_points().second[d];
+          if (std::abs(dx) < 1e-300)
+            {
+              if (p0[d] < lo || p0[d] > hi)
+                return false;
+              continue;
+            }
+          double s0 = -1.0 + (lo - p0[d]) / dx, s1 = -1.0 + (hi - p0[d]) / dx;
+          if (s0 > s1)
+            std::swap(s0, s1);
+          t0 = std::max(t0, s0);
+          t1 = std::min(t1, s1);
+        }
+      if (t0 > t1)
+        return false;
+      constexpr int n_samples = 9;
+      for (int k = 0; k < n_samples; ++k)
+        {
+          const double m = t0 + (t1 - t0) * (k + 0.5) / n_samples;
+          if (!inside(mapping, cell, position(beam, e, m)))
+            continue;
+          a = inside(mapping, cell, position(beam, e, -1.0)) ? -1.0 : crossing(beam, e, mapping, cell, m, -1.0);
+          b = inside(mapping, cell, position(beam, e, 1.0)) ? 1.0 : crossing(beam, e, mapping, cell, m, 1.0);
+          return b > a;
+        }
+      return false;
+    }
+
+    /// Segment-based ("mortar") integration points of element e in this rank's cells: the pieces
+    /// of the centreline inside each locally owned cell (candidates from the R-tree of their
+    /// bounding boxes), each kept by the rank whose cell agreed_cell() names at its midpoint
+    /// (a centreline along a face between cells is integrated once), with Gauss points on every
+    /// piece. Returns the kept pieces' total length in xi.
+    double mortar_points(const BeamMesh& beam, std::size_t e, const GridTools::Cache<3>& cache,
+                         const QGauss<1>& gauss, std::vector<IntegrationPoint>& points,
+                         std::vector<std::pair<double, double>>& pieces)
     {
       const Mapping<3>& mapping = cache.get_mapping();
       const double      l       = beam.element_length(e);
-      double            xi_a    = -1.0;
-      for (int piece = 0; xi_a < 1.0 - 1e-12; ++piece)
+      const Point<3>    p0 = position(beam, e, -1.0), p1 = position(beam, e, 1.0);
+      BoundingBox<3>    element_box(std::make_pair(p0, p0));
+      element_box.merge_with(BoundingBox<3>(std::make_pair(p1, p1)));
+      std::vector<std::pair<BoundingBox<3>, CellIterator>> candidates;
+      cache.get_locally_owned_cell_bounding_boxes_rtree().query(boost::geometry::index::intersects(element_box),
+                                                                std::back_inserter(candidates));
+      double covered = 0;
+      for (const auto& [box, cell] : candidates)
         {
-          if (piece > 10000)
-            throw std::runtime_error(source + ": beam element " + std::to_string(e) + " crosses too many cells");
-          const CellIterator cell = locate(cache, position(beam, e, std::min(xi_a + 1e-8, 1.0)), e, source).first;
-          double             xi_b = 1.0;
-          if (!inside(mapping, cell, position(beam, e, 1.0)))
-            {
-              double lo = std::min(xi_a + 1e-8, 1.0), hi = 1.0;
-              for (int k = 0; k < 60 && hi - lo > 1e-14; ++k)
-                {
-                  const double mid = 0.5 * (lo + hi);
-                  (inside(mapping, cell, position(beam, e, mid)) ? lo : hi) = mid;
-                }
-              xi_b = lo;
-            }
+          double a = 0, b = 0;
+          if (!piece_in_cell(beam, e, mapping, cell, box, a, b))
+            continue;
+          if (agreed_cell(cache, position(beam, e, 0.5 * (a + b))) != cell)
+            continue;
+          pieces.emplace_back(a, b);
+          covered += b - a;
           for (unsigned int q = 0; q < gauss.size(); ++q)
             {
-              const double   xi = xi_a + (xi_b - xi_a) * gauss.point(q)[0];
+              const double   xi = a + (b - a) * gauss.point(q)[0];
               const Point<3> p  = position(beam, e, xi);
-              points.push_back({e, xi, gauss.weight(q) * 0.5 * (xi_b - xi_a) * l, cell,
+              points.push_back({e, xi, gauss.weight(q) * 0.5 * (b - a) * l, cell,
                                 mapping.transform_real_to_unit_cell(cell, p)});
             }
-          xi_a = xi_b;
         }
+      return covered;
+    }
+
+    /// Gauss-point-to-segment points of element e in this rank's cells; returns how many.
+    int gpts_points(const BeamMesh& beam, std::size_t e, const GridTools::Cache<3>& cache, const QGauss<1>& gauss,
+                    std::vector<IntegrationPoint>& points)
+    {
+      int found = 0;
+      for (unsigned int q = 0; q < gauss.size(); ++q)
+        {
+          const double   xi   = 2 * gauss.point(q)[0] - 1;
+          const Point<3> p    = position(beam, e, xi);
+          const auto     cell = agreed_cell(cache, p);
+          if (cell.state() != IteratorState::valid || !cell->is_locally_owned())
+            continue;
+          points.push_back({e, xi, gauss.weight(q) * beam.element_length(e), cell,
+                            cache.get_mapping().transform_real_to_unit_cell(cell, p)});
+          ++found;
+        }
+      return found;
+    }
+
+    /// The first point of element e no rank integrated (the element leaves the solid there):
+    /// the start of the first gap between the pieces of all ranks (mortar), or the first Gauss
+    /// point none found (gpts). Collective.
+    Point<3> first_uncovered_point(const BeamMesh& beam, std::size_t e, CouplingMethod method,
+                                   std::vector<std::pair<double, double>> pieces, const GridTools::Cache<3>& cache,
+                                   const QGauss<1>& gauss, MPI_Comm comm)
+    {
+      if (method == CouplingMethod::gpts)
+        {
+          pieces.clear();
+          for (unsigned int q = 0; q < gauss.size(); ++q)
+            {
+              const double xi   = 2 * gauss.point(q)[0] - 1;
+              const auto   cell = agreed_cell(cache, position(beam, e, xi));
+              if (cell.state() == IteratorState::valid && cell->is_locally_owned())
+                pieces.emplace_back(xi, xi);
+            }
+        }
+      std::vector<std::pair<double, double>> all;
+      for (const auto& rank_pieces : Utilities::MPI::all_gather(comm, pieces))
+        all.insert(all.end(), rank_pieces.begin(), rank_pieces.end());
+      std::sort(all.begin(), all.end());
+      if (method == CouplingMethod::gpts)
+        {
+          for (unsigned int q = 0; q < gauss.size(); ++q)
+            {
+              const double xi = 2 * gauss.point(q)[0] - 1;
+              if (std::none_of(all.begin(), all.end(), [&](const auto& p) { return p.first == xi; }))
+                return position(beam, e, xi);
+            }
+          return position(beam, e, -1.0);
+        }
+      double reached = -1.0;
+      for (const auto& [a, b] : all)
+        {
+          if (a > reached + 1e-8)
+            break;
+          reached = std::max(reached, b);
+        }
+      return position(beam, e, reached);
     }
   } // namespace
 
@@ -111,36 +235,29 @@ namespace physics::beam_solid
       : comm_(comm)
       , n_beam_dofs_(beam.n_dofs())
   {
-    const unsigned int        rank = Utilities::MPI::this_mpi_process(comm);
     const auto&               tria = solid.get_triangulation();
     const GridTools::Cache<3> cache(tria, StaticMappingQ1<3>::mapping);
     const QGauss<1>           gauss(gauss_points); // on [0, 1]
 
-    // This rank's elements: those whose first node it owns.
+    // Every rank integrates the parts of all beam elements that lie in its own cells (the
+    // beam mesh itself is known on every rank); coverage is checked over all ranks: an element
+    // must be integrated along its whole length (mortar) or at all its Gauss points (gpts).
     std::vector<IntegrationPoint> points;
-    std::string                   error;
-    try
-      {
-        for (std::size_t e = 0; e < beam.elements.size(); ++e)
-          {
-            if (node_owner(beam.elements[e][0]) != rank)
-              continue;
-            if (method == CouplingMethod::mortar)
-              mortar_points(beam, e, cache, gauss, source, points);
-            else
-              for (unsigned int q = 0; q < gauss.size(); ++q)
-                {
-                  const double xi    = 2 * gauss.point(q)[0] - 1;
-                  const auto   found = locate(cache, position(beam, e, xi), e, source);
-                  points.push_back({e, xi, gauss.weight(q) * beam.element_length(e), found.first, found.second});
-                }
-          }
-      }
-    catch (const std::exception& e)
-      {
-        error = e.what();
-      }
-    throw_if_any_rank_failed(error, comm);
+    std::vector<double>           coverage(beam.elements.size(), 0.0);
+    std::vector<std::vector<std::pair<double, double>>> pieces(beam.elements.size());
+    for (std::size_t e = 0; e < beam.elements.size(); ++e)
+      coverage[e] = method == CouplingMethod::mortar ? mortar_points(beam, e, cache, gauss, points, pieces[e])
+                                                     : gpts_points(beam, e, cache, gauss, points);
+    Utilities::MPI::sum(coverage, comm, coverage);
+    const double expected = method == CouplingMethod::mortar ? 2.0 : static_cast<double>(gauss.size());
+    for (std::size_t e = 0; e < beam.elements.size(); ++e)
+      if (std::abs(coverage[e] - expected) > 1e-8)
+        {
+          std::ostringstream where;
+          where << first_uncovered_point(beam, e, method, pieces[e], cache, gauss, comm);
+          throw std::invalid_argument(source + ": beam element " + std::to_string(e) + " has a point (" + where.str() +
+                                      ") outside the solid");
+        }
     n_points_ = Utilities::MPI::sum(points.size(), comm);
 
     // Partial rows j of B = [D, -M] from this rank's points, row j -> (x-component column ->

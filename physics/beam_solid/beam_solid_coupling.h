@@ -10,18 +10,20 @@
 // the beams are tied to material points of the reference configuration).
 //
 // Integration: "gpts" (Gauss point to segment) uses each beam element's own Gauss points;
-// "mortar" (segment-based) first splits each element where its centreline crosses solid cell
-// faces and integrates every piece with Gauss points. Beam points are located in the solid with
-// deal.II's GridTools::Cache (an R-tree of cell bounding boxes).
+// "mortar" (segment-based) integrates the pieces of each element's centreline inside the solid
+// cells (found by bisection on the cell boundary; hexahedra are convex) with Gauss points on every
+// piece. Beam points are located with deal.II's GridTools::Cache (R-trees of cell bounding boxes).
 //
-// Parallel: the solid triangulation is a parallel::shared one (every rank can locate any point),
-// the beam nodes are split among the ranks by `node_owner`. Each rank integrates the beam elements
-// whose first node it owns (locating only their points), and the partial rows of B are summed at
-// the owner of their multiplier node: rows of B live once, where their beam node lives. The
-// penalty matrix eps B^T k^-1 B is formed there and its rows are sent to the owners of the beam or
-// solid DOFs they belong to. kappa and the gaps are beam-sized vectors shared by all ranks (like
-// the beam unknowns). Global numbering of the coupled system: beam DOFs [0, n_B) (6 per node),
-// then solid DOFs n_B + (deal.II DOF index).
+// Parallel: the solid triangulation is fully distributed (common/distributed_mesh.h); the beam
+// mesh is known on every rank and its nodes are split among the ranks by `node_owner`. Each rank
+// integrates the parts of the beam elements inside its own cells (a point on a face between two
+// ranks' cells is taken by one of them, the owner of the cell with the smallest CellId), every
+// element's full coverage is checked over all ranks, and the partial rows of B are summed at the
+// owner of their multiplier node: rows of B live once, where their beam node lives. The penalty
+// matrix eps B^T k^-1 B is formed there and its rows are sent to the owners of the beam or solid
+// DOFs they belong to. kappa and the gaps are beam-sized vectors shared by all ranks (like the
+// beam unknowns). Global numbering of the coupled system: beam DOFs [0, n_B) (6 per node), then
+// solid DOFs n_B + (deal.II DOF index).
 #pragma once
 
 #include "beam_solid/kirchhoff_beam.h"

@@ -2,6 +2,7 @@
 
 #include "beam_solid/beam_output.h"
 #include "beam_solid/beam_solid_coupling.h"
+#include "common/distributed_mesh.h"
 #include "common/mesh_input.h"
 #include "common/newton_solver.h"
 #include "common/run_directory.h"
@@ -18,7 +19,7 @@
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
-#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
@@ -101,7 +102,7 @@ namespace physics::beam_solid
       ConditionalOStream         pcout_;
       TimerOutput                timer_;
 
-      parallel::shared::Triangulation<3> tria_;
+      parallel::fullydistributed::Triangulation<3> tria_;
       FESystem<3>                        fe_;
       DoFHandler<3>                      dof_handler_;
       IndexSet                           owned_, relevant_, ghosts_;
@@ -139,7 +140,7 @@ namespace physics::beam_solid
         , n_ranks_(Utilities::MPI::n_mpi_processes(comm))
         , pcout_(std::cout, rank_ == 0)
         , timer_(pcout_, TimerOutput::never, TimerOutput::wall_times)
-        , tria_(comm, Triangulation<3>::none, false, parallel::shared::Triangulation<3>::partition_metis)
+        , tria_(comm)
         , fe_(FE_Q<3>(1), 3)
         , dof_handler_(tria_)
     {
@@ -149,26 +150,30 @@ namespace physics::beam_solid
     {
       TimerOutput::Scope scope(timer_, "setup");
       prepare_output_directory(p_.output_directory, comm_);
-      // Box with boundary ids 0..5 (x-, x+, y-, y+, z-, z+).
-      GridGenerator::subdivided_hyper_rectangle(tria_, {static_cast<unsigned>(p_.cells[0]),
+      // Box with boundary ids 0..5 (x-, x+, y-, y+, z-, z+), built and partitioned by the group
+      // roots only (common/distributed_mesh.h).
+      create_distributed_mesh<3>(tria_, [this](Triangulation<3>& box) {
+        GridGenerator::subdivided_hyper_rectangle(box, {static_cast<unsigned>(p_.cells[0]),
                                                         static_cast<unsigned>(p_.cells[1]),
                                                         static_cast<unsigned>(p_.cells[2])},
-                                                Point<3>(), Point<3>(p_.size[0], p_.size[1], p_.size[2]), true);
-      for (const auto& cell : tria_.active_cell_iterators()) // colorize also sets material ids
-        cell->set_material_id(0);
+                                                  Point<3>(), Point<3>(p_.size[0], p_.size[1], p_.size[2]), true);
+        for (const auto& cell : box.active_cell_iterators()) // colorize also sets material ids
+          cell->set_material_id(0);
+      });
       dof_handler_.distribute_dofs(fe_);
       owned_ = dof_handler_.locally_owned_dofs();
       DoFTools::extract_locally_relevant_dofs(dof_handler_, relevant_);
       // The strided maps of the block system need node-major solid DOFs (x, y, z consecutive).
       for (const auto& cell : dof_handler_.active_cell_iterators())
-        for (const unsigned int v : cell->vertex_indices())
-          if (cell->vertex_dof_index(v, 0) % 3 != 0 || cell->vertex_dof_index(v, 1) != cell->vertex_dof_index(v, 0) + 1 ||
-              cell->vertex_dof_index(v, 2) != cell->vertex_dof_index(v, 0) + 2)
-            throw std::runtime_error("solid DOFs are not numbered node by node");
+        if (!cell->is_artificial())
+          for (const unsigned int v : cell->vertex_indices())
+            if (cell->vertex_dof_index(v, 0) % 3 != 0 || cell->vertex_dof_index(v, 1) != cell->vertex_dof_index(v, 0) + 1 ||
+                cell->vertex_dof_index(v, 2) != cell->vertex_dof_index(v, 0) + 2)
+              throw std::runtime_error("solid DOFs are not numbered node by node");
 
       constraints_.reinit(relevant_);
-      VectorTools::interpolate_boundary_values(dof_handler_, 0, Functions::ZeroFunction<3>(3), constraints_);
-      constraints_.close();
+      add_boundary_constraints(dof_handler_, 0, Functions::ZeroFunction<3>(3), constraints_);
+      close_distributed_constraints(dof_handler_, relevant_, constraints_);
       pattern_.reinit(relevant_.size(), relevant_.size(), relevant_);
       DoFTools::make_sparsity_pattern(dof_handler_, pattern_, constraints_, false);
       SparsityTools::distribute_sparsity_pattern(pattern_, owned_, comm_, relevant_);
@@ -352,9 +357,10 @@ namespace physics::beam_solid
       // Solid: rigid-body modes from the vertex coordinates, in the order of the owned DOFs.
       std::map<GlobalIndex, Point<3>> vertex_of_dof;
       for (const auto& cell : dof_handler_.active_cell_iterators())
-        for (const unsigned int v : cell->vertex_indices())
-          if (owned_.is_element(cell->vertex_dof_index(v, 0)))
-            vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
+        if (cell->is_locally_owned())
+          for (const unsigned int v : cell->vertex_indices())
+            if (owned_.is_element(cell->vertex_dof_index(v, 0)))
+              vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
       std::vector<double> xyz;
       for (const auto& [dof, x] : vertex_of_dof)
         for (int c = 0; c < 3; ++c)
@@ -451,12 +457,13 @@ namespace physics::beam_solid
       summary.beam_displacement_l2 = std::sqrt(beam_sq);
       double sum = 0, count = 0;
       for (const auto& cell : dof_handler_.active_cell_iterators())
-        for (const unsigned int v : cell->vertex_indices())
-          if (std::abs(cell->vertex(v)[0] - p_.size[0]) < 1e-12 && owned_.is_element(cell->vertex_dof_index(v, 0)))
-            {
-              sum += u_[cell->vertex_dof_index(v, 0)];
-              count += 1;
-            }
+        if (!cell->is_artificial()) // every cell at an owned vertex is owned or a ghost
+          for (const unsigned int v : cell->vertex_indices())
+            if (std::abs(cell->vertex(v)[0] - p_.size[0]) < 1e-12 && owned_.is_element(cell->vertex_dof_index(v, 0)))
+              {
+                sum += u_[cell->vertex_dof_index(v, 0)];
+                count += 1;
+              }
       // (vertices are counted once per adjacent cell; the mean is unaffected on a uniform grid)
       summary.mean_end_displacement = Utilities::MPI::sum(sum, comm_) / Utilities::MPI::sum(count, comm_);
       summary.beam_displacement     = d_beam_;

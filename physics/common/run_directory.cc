@@ -1,5 +1,6 @@
 #include "common/run_directory.h"
 
+#include "common/distributed_mesh.h"
 #include "temporary_files.h"
 
 #include <deal.II/base/mpi.h>
@@ -72,8 +73,15 @@ namespace physics
         text << (first ? " " : ", ") << section << " " << std::fixed << std::setprecision(2) << largest;
         first = false;
       }
+    // Peak resident memory per rank (the figure of weak-scaling studies): the largest rank and
+    // the mean over the ranks.
+    const double peak = peak_memory_mib();
+    const double mean = dealii::Utilities::MPI::sum(peak, comm) / dealii::Utilities::MPI::n_mpi_processes(comm);
+    const double most = dealii::Utilities::MPI::max(peak, comm);
+    line.add("peak_memory_mib_max", most).add("peak_memory_mib_mean", mean);
     log.write(line);
     if (root)
-      console << text.str() << "\n";
+      console << text.str() << "\nPeak memory per rank: max " << std::fixed << std::setprecision(1) << most
+              << " MiB, mean " << mean << " MiB\n";
   }
 } // namespace physics

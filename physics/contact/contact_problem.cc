@@ -1,6 +1,6 @@
 #include "contact/contact_problem.h"
 
-#include "common/mesh_input.h"
+#include "common/distributed_mesh.h"
 #include "common/newton_solver.h"
 #include "common/run_directory.h"
 #include "common/run_output.h"
@@ -13,7 +13,7 @@
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
-#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
@@ -86,7 +86,7 @@ namespace physics::contact
       ConditionalOStream       pcout_;
       TimerOutput              timer_;
 
-      parallel::shared::Triangulation<dim> tria_;
+      parallel::fullydistributed::Triangulation<dim> tria_;
       FESystem<dim>                        fe_;
       DoFHandler<dim>                      dof_handler_;
       IndexSet                             owned_, relevant_, ghosts_;
@@ -132,7 +132,7 @@ namespace physics::contact
         , rank_(Utilities::MPI::this_mpi_process(comm))
         , pcout_(std::cout, rank_ == 0)
         , timer_(pcout_, TimerOutput::never, TimerOutput::wall_times)
-        , tria_(comm, Triangulation<dim>::none, false, parallel::shared::Triangulation<dim>::partition_metis)
+        , tria_(comm)
         , fe_(FE_Q<dim>(1), dim)
         , dof_handler_(tria_)
     {
@@ -143,15 +143,16 @@ namespace physics::contact
     {
       TimerOutput::Scope scope(timer_, "setup");
       prepare_output_directory(p_.output_directory, comm_);
-      read_mesh(p_.mesh_file, p_.gmsh_refinement, p_.output_directory, tria_, comm_);
-      tria_.refine_global(p_.global_refinements);
+      read_distributed_mesh(p_.mesh_file, p_.gmsh_refinement, p_.global_refinements, p_.output_directory, tria_);
 
-      // Every id the parameters name must exist in the mesh.
+      // Every id the parameters name must exist in the mesh (on some rank).
       std::set<types::boundary_id> ids;
       for (const auto& cell : tria_.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            ids.insert(cell->face(f)->boundary_id());
+        if (cell->is_locally_owned())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              ids.insert(cell->face(f)->boundary_id());
+      ids = Utilities::MPI::compute_set_union(ids, comm_);
       auto require = [&](int id, const std::string& parameter) {
         if (!ids.count(static_cast<types::boundary_id>(id)))
           throw std::invalid_argument(p_.mesh_file + ": no boundary faces with id " + std::to_string(id) +
@@ -191,14 +192,17 @@ namespace physics::contact
       // Bodies: the material id next to the slave faces is the slave body.
       std::set<types::material_id> slave_materials, master_materials;
       for (const auto& cell : tria_.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            {
-              if (cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.slave_id))
-                slave_materials.insert(cell->material_id());
-              if (cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.master_id))
-                master_materials.insert(cell->material_id());
-            }
+        if (cell->is_locally_owned())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              {
+                if (cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.slave_id))
+                  slave_materials.insert(cell->material_id());
+                if (cell->face(f)->boundary_id() == static_cast<types::boundary_id>(p_.master_id))
+                  master_materials.insert(cell->material_id());
+              }
+      slave_materials  = Utilities::MPI::compute_set_union(slave_materials, comm_);
+      master_materials = Utilities::MPI::compute_set_union(master_materials, comm_);
       for (auto m : slave_materials)
         if (master_materials.count(m))
           throw std::invalid_argument(p_.mesh_file + ": slave and master faces lie on the same body (material id " +
@@ -215,6 +219,8 @@ namespace physics::contact
       for (const auto& cell : dof_handler_.active_cell_iterators())
         for (const unsigned int v : cell->vertex_indices())
           {
+            if (cell->is_artificial())
+              break;
             const GlobalIndex dof0 = cell->vertex_dof_index(v, 0);
             if (!owned_.is_element(dof0))
               continue;
@@ -245,17 +251,19 @@ namespace physics::contact
 
       // Homogeneous constraints of the Newton update: clamped, loaded (displacement control),
       // symmetry planes (one component).
+      // Known for the surface DOFs too: contact entries in constrained rows and columns are
+      // dropped on every rank alike.
       constraints_.clear();
-      constraints_.reinit(relevant_);
+      constraints_.reinit(ghosts_);
       const Functions::ZeroFunction<dim> zero(dim);
       if (p_.clamped_id >= 0)
-        VectorTools::interpolate_boundary_values(dof_handler_, p_.clamped_id, zero, constraints_);
+        add_boundary_constraints(dof_handler_, p_.clamped_id, zero, constraints_);
       if (p_.load_type == "displacement")
-        VectorTools::interpolate_boundary_values(dof_handler_, p_.loaded_id, zero, constraints_);
+        add_boundary_constraints(dof_handler_, p_.loaded_id, zero, constraints_);
       for (std::size_t i = 0; i < p_.symmetry.size(); i += 2)
-        VectorTools::interpolate_boundary_values(dof_handler_, p_.symmetry[i], zero, constraints_,
-                                                 fe_.component_mask(FEValuesExtractors::Scalar(p_.symmetry[i + 1])));
-      constraints_.close();
+        add_boundary_constraints(dof_handler_, p_.symmetry[i], zero, constraints_,
+                                 fe_.component_mask(FEValuesExtractors::Scalar(p_.symmetry[i + 1])));
+      close_distributed_constraints(dof_handler_, ghosts_, constraints_);
 
       structural_pattern_.reinit(relevant_.size(), relevant_.size(), relevant_);
       DoFTools::make_sparsity_pattern(dof_handler_, structural_pattern_, constraints_, false);
@@ -376,7 +384,7 @@ namespace physics::contact
       // Newton solves K du = -r; deal.II's lifting puts (diagonal x inhomogeneity) into the
       // residual of a constrained row, hence the minus sign.
       AffineConstraints<double> c;
-      c.reinit(relevant_);
+      c.reinit(ghosts_);
       for (const auto& line : constraints_.get_lines())
         {
           const auto   it     = prescribed_.find(line.index);

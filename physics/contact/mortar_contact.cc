@@ -9,6 +9,7 @@
 #include <deal.II/numerics/rtree.h>
 
 #include <Sacado.hpp>
+#include <boost/serialization/vector.hpp>
 
 #include <limits>
 #include <set>
@@ -78,6 +79,72 @@ namespace physics::contact
         }
       return frame;
     }
+
+    /// The contact faces of this rank's cells, flattened for an all-gather: face f has the
+    /// vertices offsets[f] .. offsets[f+1]-1, ordered around the face for an outward normal.
+    struct LocalSurfaceFaces
+    {
+      std::vector<bool>             slave;       ///< per face: slave (else master) side
+      std::vector<unsigned int>     offsets{0};  ///< per face, and one past the last
+      std::vector<global_dof_index> dofs;        ///< dim per vertex
+      std::vector<double>           coordinates; ///< dim per vertex (reference position)
+
+      template <class Archive>
+      void serialize(Archive& ar, const unsigned int)
+      {
+        ar& slave& offsets& dofs& coordinates;
+      }
+    };
+
+    template <int dim>
+    LocalSurfaceFaces local_surface_faces(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings)
+    {
+      LocalSurfaceFaces result;
+      for (const auto& cell : dof_handler.active_cell_iterators())
+        {
+          if (!cell->is_locally_owned())
+            continue;
+          for (const unsigned int f : cell->face_indices())
+            {
+              if (!cell->face(f)->at_boundary())
+                continue;
+              const auto id = cell->face(f)->boundary_id();
+              if (id != settings.slave_boundary && id != settings.master_boundary)
+                continue;
+              // Around the face: deal.II numbers quadrilateral face vertices lexicographically.
+              const auto                face  = cell->face(f);
+              std::vector<unsigned int> order = dim == 2 ? std::vector<unsigned int>{0, 1}
+                                                          : std::vector<unsigned int>{0, 1, 3, 2};
+              if (face->n_vertices() == 3)
+                order = {0, 1, 2};
+              std::vector<Point<double, dim>> x;
+              for (unsigned int v : order)
+                {
+                  Point<double, dim> p;
+                  for (int d = 0; d < dim; ++d)
+                    p[d] = face->vertex(v)[d];
+                  x.push_back(p);
+                }
+              // Outward: the face normal must point away from the cell centre.
+              const auto n  = face_unit_normal<double, dim>(x);
+              const auto fc = face->center(), cc = cell->center();
+              double     s  = 0;
+              for (int d = 0; d < dim; ++d)
+                s += n[d] * (fc[d] - cc[d]);
+              if (s < 0)
+                std::reverse(order.begin(), order.end());
+              for (unsigned int v : order)
+                for (unsigned int c = 0; c < dim; ++c)
+                  {
+                    result.dofs.push_back(face->vertex_dof_index(v, c));
+                    result.coordinates.push_back(face->vertex(v)[c]);
+                  }
+              result.slave.push_back(id == settings.slave_boundary);
+              result.offsets.push_back(result.offsets.back() + order.size());
+            }
+        }
+      return result;
+    }
   } // namespace
 
   template <int dim>
@@ -89,64 +156,46 @@ namespace physics::contact
     if (fe.n_components() != dim || fe.dofs_per_vertex != dim)
       throw std::invalid_argument("mortar contact: expected a vector-valued linear element with dim DOFs per vertex");
 
-    // Owner of every DOF range (parallel::shared: every rank knows all cells and DOF indices).
-    const MPI_Comm comm =
-        dof_handler.get_triangulation().get_communicator();
-    const auto owned_per_rank = dealii::Utilities::MPI::all_gather(comm, dof_handler.locally_owned_dofs());
+    // The surfaces are gathered on every rank (O(surface) data): each rank describes the slave
+    // and master faces of its own cells, every rank then numbers the nodes in the same order
+    // (rank by rank, face by face). The volume mesh itself stays distributed.
+    const MPI_Comm comm           = dof_handler.get_triangulation().get_communicator();
+    const auto     owned_per_rank = dealii::Utilities::MPI::all_gather(comm, dof_handler.locally_owned_dofs());
+    const auto     gathered       = dealii::Utilities::MPI::all_gather(comm, local_surface_faces(dof_handler, settings));
+    const unsigned int rank       = dealii::Utilities::MPI::this_mpi_process(comm);
 
-    std::map<unsigned int, unsigned int> slave_index, master_index; // vertex -> node
-    for (const auto& cell : dof_handler.active_cell_iterators())
-      for (const unsigned int f : cell->face_indices())
-        {
-          if (!cell->face(f)->at_boundary())
-            continue;
-          const auto id = cell->face(f)->boundary_id();
-          if (id != settings.slave_boundary && id != settings.master_boundary)
-            continue;
-          const bool slave = (id == settings.slave_boundary);
-          auto&      index = slave ? slave_index : master_index;
-          auto&      nodes = slave ? slave_nodes_ : master_nodes_;
-          auto&      faces = slave ? slave_faces_ : master_faces_;
-
-          // Around the face: deal.II numbers quadrilateral face vertices lexicographically.
-          const auto                face  = cell->face(f);
-          std::vector<unsigned int> order = dim == 2 ? std::vector<unsigned int>{0, 1}
-                                                      : std::vector<unsigned int>{0, 1, 3, 2};
-          if (face->n_vertices() == 3)
-            order = {0, 1, 2};
-          std::vector<unsigned int>   face_nodes;
-          std::vector<Point<double, dim>> x;
-          for (unsigned int v : order)
-            {
-              const unsigned int vertex = face->vertex_index(v);
-              auto               it     = index.find(vertex);
-              if (it == index.end())
-                {
-                  SurfaceNode<dim> node;
-                  for (unsigned int c = 0; c < dim; ++c)
-                    node.dofs[c] = face->vertex_dof_index(v, c);
-                  node.reference = face->vertex(v);
-                  node.owner     = owning_rank(owned_per_rank, node.dofs[0]);
-                  it             = index.emplace(vertex, nodes.size()).first;
-                  nodes.push_back(node);
-                }
-              face_nodes.push_back(it->second);
-              Point<double, dim> p;
-              for (int d = 0; d < dim; ++d)
-                p[d] = face->vertex(v)[d];
-              x.push_back(p);
-            }
-          // Outward: the face normal must point away from the cell centre.
-          const auto n  = face_unit_normal<double, dim>(x);
-          const auto fc = face->center(), cc = cell->center();
-          double     s  = 0;
-          for (int d = 0; d < dim; ++d)
-            s += n[d] * (fc[d] - cc[d]);
-          if (s < 0)
-            std::reverse(face_nodes.begin(), face_nodes.end());
-          faces.nodes.push_back(face_nodes);
-          faces.locally_owned.push_back(cell->is_locally_owned());
-        }
+    std::map<global_dof_index, unsigned int> slave_index, master_index; // first DOF -> node
+    for (unsigned int r = 0; r < gathered.size(); ++r)
+      {
+        const auto& faces_of_rank = gathered[r];
+        for (std::size_t f = 0; f < faces_of_rank.slave.size(); ++f)
+          {
+            const bool slave = faces_of_rank.slave[f];
+            auto&      index = slave ? slave_index : master_index;
+            auto&      nodes = slave ? slave_nodes_ : master_nodes_;
+            auto&      faces = slave ? slave_faces_ : master_faces_;
+            std::vector<unsigned int> face_nodes;
+            for (unsigned int v = faces_of_rank.offsets[f]; v < faces_of_rank.offsets[f + 1]; ++v)
+              {
+                auto it = index.find(faces_of_rank.dofs[dim * v]);
+                if (it == index.end())
+                  {
+                    SurfaceNode<dim> node;
+                    for (unsigned int c = 0; c < dim; ++c)
+                      {
+                        node.dofs[c]      = faces_of_rank.dofs[dim * v + c];
+                        node.reference[c] = faces_of_rank.coordinates[dim * v + c];
+                      }
+                    node.owner = owning_rank(owned_per_rank, node.dofs[0]);
+                    it         = index.emplace(node.dofs[0], nodes.size()).first;
+                    nodes.push_back(node);
+                  }
+                face_nodes.push_back(it->second);
+              }
+            faces.nodes.push_back(face_nodes);
+            faces.locally_owned.push_back(r == rank);
+          }
+      }
     if (slave_nodes_.empty())
       throw std::invalid_argument("no boundary face has the slave boundary id " +
                                   std::to_string(settings.slave_boundary));

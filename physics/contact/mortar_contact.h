@@ -18,12 +18,13 @@
 //    tangential constraints (constraint_row() says which row holds which). Inactive: lambda_j = 0 (identity rows). Active: g~_j = 0 linearized (N row) and
 //    tau_j^m . lambda_j = 0 linearized (T and F rows).
 //
-// Parallel layout: the triangulation is a parallel::shared one, so every rank knows the whole
-// surface topology; positions of all surface nodes and the multipliers are kept redundantly on
-// every rank (the "redundant master surface" of production codes; O(surface) data). Each rank
-// integrates only the slave faces of its locally owned cells and finds master candidates with an
-// R-tree of master-face bounding boxes. Rows of nodes owned elsewhere are summed by the
-// distributed matrix/vector (nonlocal adds).
+// Parallel layout: the volume mesh is fully distributed (common/distributed_mesh.h); the two
+// contact surfaces are gathered from the ranks' own cells once, at construction, and kept on every
+// rank with the current positions of their nodes and the multipliers (the "redundant interface"
+// of production codes: O(surface) data, no volume-sized array). Each rank integrates only the
+// slave faces of its locally owned cells and finds master candidates with an R-tree of
+// master-face bounding boxes. Rows of nodes owned elsewhere are summed by the distributed
+// matrix/vector (nonlocal adds).
 #pragma once
 
 #include <deal.II/base/point.h>
@@ -96,7 +97,7 @@ namespace physics::contact
   class MortarContact
   {
   public:
-    /// Collects both surfaces from the mesh (all ranks see the whole mesh); throws
+    /// Gathers both surfaces from the ranks' own cells (collective); throws
     /// std::invalid_argument naming the missing boundary id if a surface is empty.
     MortarContact(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings);
 

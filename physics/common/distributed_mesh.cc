@@ -1,0 +1,160 @@
+#include "common/distributed_mesh.h"
+
+#include "common/mesh_input.h"
+#include "common/row_exchange.h"
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria_description.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <sys/resource.h>
+
+#include <memory>
+#include <stdexcept>
+
+namespace physics
+{
+  namespace
+  {
+    /// The group size deal.II's construction in groups uses: `requested`, or for 0 the number
+    /// of ranks of the smallest compute node (ranks sharing memory), so that every node has one
+    /// group root where ranks are placed node by node.
+    unsigned int resolved_group_size(MPI_Comm comm, unsigned int requested)
+    {
+      if (requested > 0)
+        return requested;
+      MPI_Comm node;
+      MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+      int ranks_on_node = 1;
+      MPI_Comm_size(node, &ranks_on_node);
+      MPI_Comm_free(&node);
+      return dealii::Utilities::MPI::min(static_cast<unsigned int>(ranks_on_node), comm);
+    }
+
+    bool is_group_root(MPI_Comm comm, unsigned int group_size)
+    {
+      return dealii::Utilities::MPI::this_mpi_process(comm) % group_size == 0;
+    }
+  } // namespace
+
+  template <int dim>
+  void create_distributed_mesh(dealii::parallel::fullydistributed::Triangulation<dim>& tria,
+                               const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
+                               unsigned int group_size)
+  {
+    const MPI_Comm comm = tria.get_communicator();
+    group_size          = resolved_group_size(comm, group_size);
+
+    // The serial mesh is built before deal.II's collective construction starts, so that a bad
+    // input stops every rank with the root's message instead of leaving the others waiting.
+    std::unique_ptr<dealii::Triangulation<dim>> serial;
+    std::string                                 error;
+    if (is_group_root(comm, group_size))
+      try
+        {
+          serial = std::make_unique<dealii::Triangulation<dim>>();
+          serial_mesh(*serial);
+        }
+      catch (const std::invalid_argument& e)
+        {
+          error = e.what();
+        }
+    throw_if_any_rank_failed(error, comm);
+
+    const auto description =
+        dealii::TriangulationDescription::Utilities::create_description_from_triangulation_in_groups<dim, dim>(
+            [&](dealii::Triangulation<dim>& t) { t = std::move(*serial); },
+            [](dealii::Triangulation<dim>& t, const MPI_Comm& c, unsigned int) {
+              // METIS on the cell graph: parts of equal size with short interfaces, as the
+              // shared triangulation's partition_metis did before.
+              dealii::GridTools::partition_triangulation(dealii::Utilities::MPI::n_mpi_processes(c), t,
+                                                         dealii::SparsityTools::Partitioner::metis);
+            },
+            comm, static_cast<int>(group_size));
+    serial.reset();
+    tria.create_triangulation(description);
+  }
+
+  template <int dim>
+  void read_distributed_mesh(const std::string& file, int gmsh_refinement, int global_refinements,
+                             const std::string& work_directory,
+                             dealii::parallel::fullydistributed::Triangulation<dim>& tria)
+  {
+    const MPI_Comm     comm       = tria.get_communicator();
+    const unsigned int group_size = resolved_group_size(comm, 0);
+    // gmsh runs once (on rank 0); its mesh goes to the group roots only.
+    MPI_Comm roots;
+    MPI_Comm_split(comm, is_group_root(comm, group_size) ? 0 : MPI_UNDEFINED, 0, &roots);
+    try
+      {
+        create_distributed_mesh<dim>(
+            tria,
+            [&](dealii::Triangulation<dim>& serial) {
+              read_mesh(file, gmsh_refinement, work_directory, serial, roots);
+              serial.refine_global(global_refinements);
+            },
+            group_size);
+      }
+    catch (...)
+      {
+        if (roots != MPI_COMM_NULL)
+          MPI_Comm_free(&roots);
+        throw;
+      }
+    if (roots != MPI_COMM_NULL)
+      MPI_Comm_free(&roots);
+  }
+
+  template <int dim>
+  void add_boundary_constraints(const dealii::DoFHandler<dim>& dof_handler, dealii::types::boundary_id id,
+                                const dealii::Function<dim>& g, dealii::AffineConstraints<double>& constraints,
+                                const dealii::ComponentMask& mask)
+  {
+    std::map<dealii::types::global_dof_index, double> values;
+    dealii::VectorTools::interpolate_boundary_values(dof_handler, id, g, values, mask);
+    const auto& owned = dof_handler.locally_owned_dofs();
+    for (const auto& [dof, value] : values)
+      if (owned.is_element(dof) && !constraints.is_constrained(dof))
+        {
+          constraints.add_line(dof);
+          constraints.set_inhomogeneity(dof, value);
+        }
+  }
+
+  template <int dim>
+  void close_distributed_constraints(const dealii::DoFHandler<dim>& dof_handler, const dealii::IndexSet& known,
+                                     dealii::AffineConstraints<double>& constraints)
+  {
+    constraints.make_consistent_in_parallel(dof_handler.locally_owned_dofs(), known,
+                                            dof_handler.get_triangulation().get_communicator());
+    constraints.close();
+  }
+
+  double peak_memory_mib()
+  {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_maxrss) / 1024.0; // Linux: kilobytes
+  }
+
+  template void create_distributed_mesh<2>(dealii::parallel::fullydistributed::Triangulation<2>&,
+                                           const std::function<void(dealii::Triangulation<2>&)>&, unsigned int);
+  template void create_distributed_mesh<3>(dealii::parallel::fullydistributed::Triangulation<3>&,
+                                           const std::function<void(dealii::Triangulation<3>&)>&, unsigned int);
+  template void add_boundary_constraints<2>(const dealii::DoFHandler<2>&, dealii::types::boundary_id,
+                                            const dealii::Function<2>&, dealii::AffineConstraints<double>&,
+                                            const dealii::ComponentMask&);
+  template void add_boundary_constraints<3>(const dealii::DoFHandler<3>&, dealii::types::boundary_id,
+                                            const dealii::Function<3>&, dealii::AffineConstraints<double>&,
+                                            const dealii::ComponentMask&);
+  template void close_distributed_constraints<2>(const dealii::DoFHandler<2>&, const dealii::IndexSet&,
+                                                 dealii::AffineConstraints<double>&);
+  template void close_distributed_constraints<3>(const dealii::DoFHandler<3>&, const dealii::IndexSet&,
+                                                 dealii::AffineConstraints<double>&);
+  template void read_distributed_mesh<2>(const std::string&, int, int, const std::string&,
+                                         dealii::parallel::fullydistributed::Triangulation<2>&);
+  template void read_distributed_mesh<3>(const std::string&, int, int, const std::string&,
+                                         dealii::parallel::fullydistributed::Triangulation<3>&);
+} // namespace physics

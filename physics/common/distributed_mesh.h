@@ -1,0 +1,65 @@
+// Fully distributed meshes (parallel::fullydistributed::Triangulation): every rank stores only
+// its own cells and one layer of ghost cells, so memory per rank follows the DOFs per rank, not
+// the size of the whole problem.
+//
+// The mesh is built "in groups" (deal.II's TriangulationDescription, the approach of the
+// fullydistributed tutorials): the ranks are split into groups of consecutive ranks, one group
+// per compute node (the ranks that share memory); only the first rank of each group builds the
+// serial mesh (reads or generates it, refines it), partitions it with METIS into one part per
+// rank and sends every rank of its group the description of its part. The serial mesh is
+// released before any DOF exists, so the largest memory of a run is reached later, by the
+// matrices and hierarchies, which are distributed.
+#pragma once
+
+#include <deal.II/base/function.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/component_mask.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
+
+#include <mpi.h>
+
+#include <functional>
+#include <string>
+
+namespace physics
+{
+  /// Fills `tria` (empty) with the mesh `serial_mesh` builds. `serial_mesh` runs only on the
+  /// first rank of each group, on an empty serial triangulation; it may throw
+  /// std::invalid_argument (a bad file, a missing mesh), which is thrown on every rank.
+  /// `group_size` 0: one group per compute node (MPI_COMM_TYPE_SHARED).
+  template <int dim>
+  void create_distributed_mesh(dealii::parallel::fullydistributed::Triangulation<dim>& tria,
+                               const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
+                               unsigned int group_size = 0);
+
+  /// `create_distributed_mesh` of the gmsh mesh `file` (.geo meshed with `-setnumber refine
+  /// gmsh_refinement`, or .msh), refined `global_refinements` times before it is partitioned.
+  template <int dim>
+  void read_distributed_mesh(const std::string& file, int gmsh_refinement, int global_refinements,
+                             const std::string& work_directory,
+                             dealii::parallel::fullydistributed::Triangulation<dim>& tria);
+
+  /// Dirichlet constraints u = g on the faces with boundary id `id` (components in `mask`),
+  /// for the locally owned DOFs only. A fully distributed triangulation stores no cell beyond
+  /// the ghost layer, so the outer faces of ghost cells look like boundary faces (with boundary
+  /// id 0): deal.II's interpolate_boundary_values, which visits ghost cells too, would constrain
+  /// the ghost DOFs there. An owned DOF sees every face through its vertex correctly (all cells
+  /// at it are owned or ghosts); close_distributed_constraints() then gives the ghost DOFs their
+  /// owners' constraints.
+  template <int dim>
+  void add_boundary_constraints(const dealii::DoFHandler<dim>& dof_handler, dealii::types::boundary_id id,
+                                const dealii::Function<dim>& g, dealii::AffineConstraints<double>& constraints,
+                                const dealii::ComponentMask& mask = {});
+
+  /// Gives every DOF of `known` (the locally relevant ones, and any further ones this rank reads,
+  /// such as a contact surface's; `constraints` must have been reinit'ed with it) the constraints
+  /// of its owner, and closes them.
+  template <int dim>
+  void close_distributed_constraints(const dealii::DoFHandler<dim>& dof_handler, const dealii::IndexSet& known,
+                                     dealii::AffineConstraints<double>& constraints);
+
+  /// Peak resident memory of this process so far, in MiB (getrusage).
+  double peak_memory_mib();
+} // namespace physics
