@@ -76,17 +76,52 @@ namespace physics::beam_solid
         }
     }
 
-    /// Bisection for where a straight centreline crosses the boundary of a (convex) hexahedron:
-    /// `in` inside, `out` outside; returns the last inside parameter (to ~1e-14).
-    double crossing(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping, const CellIterator& cell,
-                    double in, double out)
+    /// Which unit-cell coordinates of the point at xi lie on a face of `cell` (within 1e-8): a
+    /// centreline along a face stays on it, and only there may the crossing test allow round-off.
+    std::array<bool, 3> on_faces(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping,
+                                 const CellIterator& cell, double xi)
     {
-      for (int k = 0; k < 60 && std::abs(out - in) > 1e-14; ++k)
+      const Point<3>      u = mapping.transform_real_to_unit_cell(cell, position(beam, e, xi));
+      std::array<bool, 3> on{};
+      for (unsigned int d = 0; d < 3; ++d)
+        on[d] = std::abs(u[d]) < 1e-8 || std::abs(u[d] - 1) < 1e-8;
+      return on;
+    }
+
+    /// Inside the cell with no tolerance across the faces the centreline crosses, so that two
+    /// neighbouring cells find the same crossing point (to round-off) and the pieces of an element
+    /// add up to its length; with deal.II's 1e-10 along the faces it lies on.
+    bool inside_exactly(const Mapping<3>& mapping, const CellIterator& cell, const Point<3>& p,
+                        const std::array<bool, 3>& on)
+    {
+      try
+        {
+          const Point<3> u = mapping.transform_real_to_unit_cell(cell, p);
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              const double tolerance = on[d] ? 1e-10 : 0.0;
+              if (u[d] < -tolerance || u[d] > 1 + tolerance)
+                return false;
+            }
+          return true;
+        }
+      catch (const typename Mapping<3>::ExcTransformationFailed&)
+        {
+          return false;
+        }
+    }
+
+    /// Bisection for where a straight centreline crosses the boundary of a (convex) hexahedron:
+    /// `in` inside, `out` outside; returns the crossing parameter (to ~1e-14).
+    double crossing(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping, const CellIterator& cell,
+                    const std::array<bool, 3>& on, double in, double out)
+    {
+      for (int k = 0; k < 60 && std::abs(out - in) > 1e-15; ++k)
         {
           const double mid = 0.5 * (in + out);
-          (inside(mapping, cell, position(beam, e, mid)) ? in : out) = mid;
+          (inside_exactly(mapping, cell, position(beam, e, mid), on) ? in : out) = mid;
         }
-      return in;
+      return 0.5 * (in + out);
     }
 
     /// The part [a, b] of element e's centreline inside `cell` (hexahedra are convex, so it is one
@@ -122,8 +157,11 @@ namespace physics::beam_solid
           const double m = t0 + (t1 - t0) * (k + 0.5) / n_samples;
           if (!inside(mapping, cell, position(beam, e, m)))
             continue;
-          a = inside(mapping, cell, position(beam, e, -1.0)) ? -1.0 : crossing(beam, e, mapping, cell, m, -1.0);
-          b = inside(mapping, cell, position(beam, e, 1.0)) ? 1.0 : crossing(beam, e, mapping, cell, m, 1.0);
+          const auto on = on_faces(beam, e, mapping, cell, m);
+          a = inside_exactly(mapping, cell, position(beam, e, -1.0), on) ? -1.0
+                                                                         : crossing(beam, e, mapping, cell, on, m, -1.0);
+          b = inside_exactly(mapping, cell, position(beam, e, 1.0), on) ? 1.0
+                                                                        : crossing(beam, e, mapping, cell, on, m, 1.0);
           return b > a;
         }
       return false;

@@ -9,8 +9,6 @@
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
-#include <sys/resource.h>
-
 #include <memory>
 #include <stdexcept>
 
@@ -130,13 +128,6 @@ namespace physics
     constraints.make_consistent_in_parallel(dof_handler.locally_owned_dofs(), known,
                                             dof_handler.get_triangulation().get_communicator());
     constraints.close();
-  }
-
-  double peak_memory_mib()
-  {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    return static_cast<double>(usage.ru_maxrss) / 1024.0; // Linux: kilobytes
   }
 
   template void create_distributed_mesh<2>(dealii::parallel::fullydistributed::Triangulation<2>&,

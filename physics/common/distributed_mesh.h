@@ -59,7 +59,4 @@ namespace physics
   template <int dim>
   void close_distributed_constraints(const dealii::DoFHandler<dim>& dof_handler, const dealii::IndexSet& known,
                                      dealii::AffineConstraints<double>& constraints);
-
-  /// Peak resident memory of this process so far, in MiB (getrusage).
-  double peak_memory_mib();
 } // namespace physics

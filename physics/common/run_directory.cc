@@ -1,9 +1,9 @@
 #include "common/run_directory.h"
 
-#include "common/distributed_mesh.h"
 #include "temporary_files.h"
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -75,13 +75,15 @@ namespace physics
       }
     // Peak resident memory per rank (the figure of weak-scaling studies): the largest rank and
     // the mean over the ranks.
-    const double peak = peak_memory_mib();
+    dealii::Utilities::System::MemoryStats memory;
+    dealii::Utilities::System::get_memory_stats(memory); // VmHWM: peak resident set, kB
+    const double peak = memory.VmHWM / 1024.0;
     const double mean = dealii::Utilities::MPI::sum(peak, comm) / dealii::Utilities::MPI::n_mpi_processes(comm);
     const double most = dealii::Utilities::MPI::max(peak, comm);
-    line.add("peak_memory_mib_max", most).add("peak_memory_mib_mean", mean);
+    line.add("peak_memory_mb_max", most).add("peak_memory_mb_mean", mean);
     log.write(line);
     if (root)
       console << text.str() << "\nPeak memory per rank: max " << std::fixed << std::setprecision(1) << most
-              << " MiB, mean " << mean << " MiB\n";
+              << " MB, mean " << mean << " MB\n";
   }
 } // namespace physics

@@ -22,8 +22,8 @@ namespace physics
   /// atomically): the run's input as read, with the defaults of everything it did not set.
   void write_used_parameters(const dealii::ParameterHandler& prm, const std::string& directory, MPI_Comm comm);
 
-  /// One log line {"event": "timers", "<section>_seconds": wall time, ..., "peak_memory_mib_max",
-  /// "peak_memory_mib_mean"} with each section's largest wall time over the ranks and the peak
+  /// One log line {"event": "timers", "<section>_seconds": wall time, ..., "peak_memory_mb_max",
+  /// "peak_memory_mb_mean"} with each section's largest wall time over the ranks and the peak
   /// resident memory per rank (largest, mean; collective), and the same on the console.
   void log_timer_summary(const dealii::TimerOutput& timer, JsonLinesLog& log, std::ostream& console, bool root,
                          MPI_Comm comm);
