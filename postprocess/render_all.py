@@ -100,6 +100,9 @@ def main(argv=None):
     ap.add_argument("directory", help="a run directory, a directory of runs, or a weak-scaling study")
     ap.add_argument("--out", help="output directory (default: DIR/postprocess)")
     args = ap.parse_args(argv)
+    if not os.path.isdir(args.directory):
+        print(f"render_all: {args.directory}: not a directory", file=sys.stderr)
+        return 2
     if render_vtk.needs_display():
         return render_vtk.rerun_under_xvfb(argv, script=os.path.abspath(__file__))
     out = args.out or os.path.join(args.directory, "postprocess")

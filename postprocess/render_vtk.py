@@ -274,6 +274,10 @@ def main(argv=None):
     ap.add_argument("--step", type=int, default=-1, help="index into the series (default -1: the last step)")
     ap.add_argument("--scale", type=float, default=1.0, help="displacement scale of the deformed configuration")
     args = ap.parse_args(argv)
+    for path in (args.series, args.beams):
+        if path and not os.path.exists(path):
+            print(f"render_vtk: {path}: file not found", file=sys.stderr)
+            return 2
     if needs_display():
         return rerun_under_xvfb(argv)
     try:
