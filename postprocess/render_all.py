@@ -74,9 +74,7 @@ def render_all(root, out):
     os.makedirs(out, exist_ok=True)
     sections, manifest = [f"# Report: `{os.path.abspath(root)}`", ""], []
     if is_study:
-        result, info, text = weak_scaling.plot(root)
-        # the study's own files sit in the study directory; the report shows its plot
-        os.replace(os.path.join(root, "weak_scaling.png"), os.path.join(out, "weak_scaling.png"))
+        _, info, text = weak_scaling.plot(root, out)
         sections.append(text)
         manifest.append(info)
     elif len(runs) > 1:

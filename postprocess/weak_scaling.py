@@ -209,12 +209,16 @@ def markdown(result, info):
     return "\n".join(lines) + "\n"
 
 
-def plot(directory):
+def plot(directory, out=None):
+    """Collects the study in `directory`, writes weak_scaling.png and weak_scaling.md into `out`
+    (default: the study directory)."""
     result = collect(directory)
-    info = plots.weak_scaling(result["rows"], os.path.join(directory, "weak_scaling.png"),
+    out = out or directory
+    os.makedirs(out, exist_ok=True)
+    info = plots.weak_scaling(result["rows"], os.path.join(out, "weak_scaling.png"),
                               f"weak scaling: {result['description']}, {result['dofs_per_rank_target']:.0f} DOFs/rank")
     text = markdown(result, info)
-    with open(os.path.join(directory, "weak_scaling.md"), "w") as f:
+    with open(os.path.join(out, "weak_scaling.md"), "w") as f:
         f.write(text)
     return result, info, text
 
