@@ -143,7 +143,8 @@ def weak_scaling(rows, path, title):
         a.set_xticks(ranks)
         a.set_xticklabels([str(p) + ("*" if r.get("oversubscribed") else "") for p, r in zip(ranks, rows)])
         a.set_xlabel("MPI ranks (* oversubscribed)")
-        a.legend(fontsize="small")
+        if a.get_legend_handles_labels()[0]:
+            a.legend(fontsize="small")
     fig.suptitle(title)
     fig.tight_layout()
     return save(fig, path)

@@ -159,14 +159,16 @@ def collect(directory):
                 row["dofs_per_rank"] = row["dofs"] / e["ranks"]
         rows.append(row)
     add_efficiency(rows)
+    without_log = [r["run"] for r in rows if r.get("gmres_average") is None]
     for row in rows:
         for key in FIELDS:
             row.setdefault(key, None)
-            if row[key] is None and key not in ("efficiency_wall", "efficiency_solve"):
+            # what a finished run's log and job.json lack (not what a run not yet done lacks)
+            if row[key] is None and row["run"] not in without_log and key not in ("efficiency_wall", "efficiency_solve"):
                 missing.add(key)
     result = {"class": study["class"], "description": study["description"],
               "dofs_per_rank_target": study["dofs_per_rank_target"], "cores": study["cores"], "rows": rows,
-              "missing": sorted(missing), "not_in_logs": NOT_IN_LOGS}
+              "missing": sorted(missing), "not_in_logs": NOT_IN_LOGS, "runs_without_log": without_log}
     with open(os.path.join(directory, "weak_scaling.json"), "w") as f:
         json.dump(result, f, indent=1)
     with open(os.path.join(directory, "weak_scaling.csv"), "w", newline="") as f:
@@ -213,9 +215,12 @@ def plot(directory, out=None):
     """Collects the study in `directory`, writes weak_scaling.png and weak_scaling.md into `out`
     (default: the study directory)."""
     result = collect(directory)
+    done = [r for r in result["rows"] if r.get("gmres_average") is not None]
+    if not done:
+        raise InputError(f"{directory}: no run of the study has a run log yet (jobs not run or not finished?)")
     out = out or directory
     os.makedirs(out, exist_ok=True)
-    info = plots.weak_scaling(result["rows"], os.path.join(out, "weak_scaling.png"),
+    info = plots.weak_scaling(done, os.path.join(out, "weak_scaling.png"),
                               f"weak scaling: {result['description']}, {result['dofs_per_rank_target']:.0f} DOFs/rank")
     text = markdown(result, info)
     with open(os.path.join(out, "weak_scaling.md"), "w") as f:
@@ -227,6 +232,8 @@ def print_collection(result):
     print(report.table(sorted(result["rows"], key=lambda r: r["ranks"]), report.SCALING_COLUMNS))
     if result["missing"]:
         print(f"missing from the logs or the study: {', '.join(result['missing'])}")
+    if result["runs_without_log"]:
+        print(f"runs without a run log (not run, not finished or failed early): {', '.join(result['runs_without_log'])}")
 
 
 def seeds(args):
