@@ -195,17 +195,21 @@ def growth(rows, key):
 
 def markdown(result, info):
     rows = sorted(result["rows"], key=lambda r: r["ranks"])
-    lines = [f"## Weak scaling: {result['description']}", "",
-             f"Target {result['dofs_per_rank_target']:.0f} DOFs per rank, {result['cores']} cores here "
-             "(runs on more ranks than cores are oversubscribed: their times are not scaling figures).", "",
-             report.table(rows, report.SCALING_COLUMNS), ""]
-    g, m = growth(rows, "gmres_average"), growth(rows, "peak_memory_mb_max")
+    done = [r for r in rows if r.get("gmres_average") is not None]
+    lines = [f"## Weak scaling: {result['description']}", "", f"Target {result['dofs_per_rank_target']:.0f} DOFs per rank."]
+    if any(r["oversubscribed"] for r in rows):
+        lines.append(f"Run on {result['cores']} cores: the runs on more ranks are oversubscribed, "
+                     "their times are not scaling figures.")
+    lines += ["", report.table(rows, report.SCALING_COLUMNS), ""]
+    g, m = growth(done, "gmres_average"), growth(done, "peak_memory_mb_max")
     if g:
-        lines.append(f"GMRES per Newton step grows {g:.2f}x from {rows[0]['ranks']} to {rows[-1]['ranks']} ranks; "
-                     f"largest peak memory per rank {m:.2f}x." if m else "")
+        lines.append(f"From {done[0]['ranks']} to {done[-1]['ranks']} ranks: GMRES per Newton step x {g:.2f}"
+                     + (f", largest peak memory per rank x {m:.2f}." if m else "."))
     if result["missing"]:
         lines.append(f"Not known for every run: {', '.join(result['missing'])} "
                      "(peak_memory_mb_mean: the logs give only the largest over the ranks).")
+    if result.get("runs_without_log"):
+        lines.append(f"No run log (yet): {', '.join(result['runs_without_log'])}.")
     if info:
         lines += ["", report.image(info, "weak scaling")]
     return "\n".join(lines) + "\n"
