@@ -4,6 +4,8 @@
 #   scripts/setup.sh test   install what is missing, build, run the test suite (ctest)
 #   scripts/setup.sh build  install and build only
 # Idempotent: packages already present are not reinstalled, the build is incremental.
+# (xvfb and xauth: postprocess/ renders VTK pictures offscreen under xvfb-run, which needs xauth,
+# only recommended by xvfb and so not installed by --no-install-recommends.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-build}"
@@ -12,7 +14,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libdeal.ii-dev trilinos-all-dev libopenmpi-dev openmpi-bin libmetis-dev
   libsuperlu-dev libsuperlu-dist-dev gmsh libgmsh-dev
-  libgtest-dev python3-numpy python3-scipy
+  libgtest-dev python3-numpy python3-scipy python3-matplotlib python3-vtk9 xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do
