@@ -8,7 +8,9 @@ The log (physics/common/newton_solver.cc, step_driver.cc, solver_parameters.cc) 
   and `active_changed`; a line that was followed by a linear solve also has `linear_iterations`,
   `linear_converged`, `setup_seconds`, `solve_seconds`, `global_size`, `operator_complexity`,
   `peak_memory_mb` (the largest VmHWM over the ranks);
-- event lines (`"event"`: `step_cut`, `step_grown`, `run_stopped`, and `timers` at the end);
+- event lines (`"event"`: `step_cut`, `step_grown`, `run_stopped`, and `timers` at the end, with
+  `<section>_seconds` and `peak_memory_mb_max` / `peak_memory_mb_mean`, the peak resident memory
+  per rank, largest and mean over the ranks);
 - energy lines of dynamic runs (`time_step`, `kinetic_energy`, `strain_energy`, `total_energy`).
 
 Bad input (a missing or unreadable log) raises InputError with one line naming the file.
@@ -140,7 +142,10 @@ class RunLog:
             "setup_seconds": total("setup_seconds"), "solve_seconds": total("solve_seconds"),
             "assembly_seconds": sum(l.get("assembly_seconds", 0.0) for l in self.newton) if self.newton else None,
             "operator_complexity": largest("operator_complexity"),
-            "peak_memory_mb_max": largest("peak_memory_mb"),
+            # The closing timers line has the run's peak per rank (largest and mean over the
+            # ranks); older logs only the largest, after each solve.
+            "peak_memory_mb_max": (self.timers or {}).get("peak_memory_mb_max", largest("peak_memory_mb")),
+            "peak_memory_mb_mean": (self.timers or {}).get("peak_memory_mb_mean"),
             "active_final": last.get("active"),
             "timers": {k: v for k, v in (self.timers or {}).items() if k != "event"},
         }

@@ -46,8 +46,7 @@ FIELDS = ["ranks", "oversubscribed", "dofs", "dofs_per_rank", "mesh", "load_step
           "operator_complexity", "peak_memory_mb_max", "peak_memory_mb_mean", "efficiency_wall",
           "efficiency_solve", "converged", "exit_status", "run"]
 # What a study needs per run and where it comes from when the log lacks it.
-NOT_IN_LOGS = {"ranks": "the study plan (study.json)", "wall_seconds": "job.json (measured by the launcher)",
-               "peak_memory_mb_mean": "nowhere (the log's peak_memory_mb is the largest over the ranks)"}
+NOT_IN_LOGS = {"ranks": "the study plan (study.json)", "wall_seconds": "job.json (measured by the launcher)"}
 
 
 def parse_settings(items):
@@ -153,7 +152,8 @@ def collect(directory):
             s = RunLog(run_dir).summary()
             row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "gmres_average", "gmres_max",
                                           "setup_seconds", "solve_seconds", "assembly_seconds",
-                                          "operator_complexity", "peak_memory_mb_max", "converged")})
+                                          "operator_complexity", "peak_memory_mb_max", "peak_memory_mb_mean",
+                                          "converged")})
             row["preset"] = s["preset"]
             if row["dofs"] is not None:
                 row["dofs_per_rank"] = row["dofs"] / e["ranks"]
@@ -206,8 +206,7 @@ def markdown(result, info):
         lines.append(f"From {done[0]['ranks']} to {done[-1]['ranks']} ranks: GMRES per Newton step x {g:.2f}"
                      + (f", largest peak memory per rank x {m:.2f}." if m else "."))
     if result["missing"]:
-        lines.append(f"Not known for every run: {', '.join(result['missing'])} "
-                     "(peak_memory_mb_mean: the logs give only the largest over the ranks).")
+        lines.append(f"Not known for every run: {', '.join(result['missing'])}.")
     if result.get("runs_without_log"):
         lines.append(f"No run log (yet): {', '.join(result['runs_without_log'])}.")
     if info:

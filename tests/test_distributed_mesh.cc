@@ -1,0 +1,106 @@
+// Fully distributed meshes (physics/common/distributed_mesh.h): no rank stores the whole mesh
+// when there are several, the parts add up to it, Dirichlet constraints on every stored DOF are
+// exactly those of the serial mesh (a fully distributed triangulation shows the outer faces of
+// its ghost layer as boundary faces with id 0; deal.II's interpolate_boundary_values alone would
+// constrain the ghost DOFs there), and a bad mesh file stops every rank with the same one-line
+// message instead of leaving the ranks that do not read it waiting. ctest runs it on 1 and 2
+// ranks (the storage test is only meaningful on 2).
+#include "common/distributed_mesh.h"
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/grid/grid_generator.h>
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+using namespace dealii;
+
+namespace
+{
+  /// A 6 x 5 x 4 box with boundary ids 0..5 (face x = 0 has id 0), fully distributed.
+  void make_box(parallel::fullydistributed::Triangulation<3>& tria)
+  {
+    physics::create_distributed_mesh<3>(tria, [](Triangulation<3>& box) {
+      GridGenerator::subdivided_hyper_rectangle(box, {6, 5, 4}, Point<3>(), Point<3>(1.2, 1.0, 0.8), true);
+    });
+  }
+} // namespace
+
+TEST(DistributedMesh, EveryRankStoresOnlyItsPartAndTheGhostLayer)
+{
+  const MPI_Comm                               comm = MPI_COMM_WORLD;
+  parallel::fullydistributed::Triangulation<3> tria(comm);
+  make_box(tria);
+  EXPECT_EQ(tria.n_global_active_cells(), 120u);
+  EXPECT_EQ(Utilities::MPI::sum(tria.n_locally_owned_active_cells(), comm), 120u);
+  if (Utilities::MPI::n_mpi_processes(comm) > 1)
+    {
+      // METIS parts of equal size, and far fewer cells stored than the whole mesh.
+      EXPECT_LT(tria.n_active_cells(), tria.n_global_active_cells());
+      EXPECT_GE(tria.n_locally_owned_active_cells(), 120u / Utilities::MPI::n_mpi_processes(comm) - 6);
+    }
+}
+
+TEST(DistributedMesh, BoundaryConstraintsAreThoseOfTheSerialMesh)
+{
+  const MPI_Comm                               comm = MPI_COMM_WORLD;
+  parallel::fullydistributed::Triangulation<3> tria(comm);
+  make_box(tria);
+  const FESystem<3> fe(FE_Q<3>(1), 3);
+  DoFHandler<3>     dof_handler(tria);
+  dof_handler.distribute_dofs(fe);
+  IndexSet relevant;
+  DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+  AffineConstraints<double> constraints(relevant);
+  physics::add_boundary_constraints(dof_handler, 0, Functions::ConstantFunction<3>(0.25, 3), constraints);
+  physics::close_distributed_constraints(dof_handler, relevant, constraints);
+
+  // Every stored DOF: constrained exactly when its vertex lies on x = 0, with the value there.
+  unsigned int wrong = 0, owned_constrained = 0;
+  for (const auto& cell : dof_handler.active_cell_iterators())
+    if (!cell->is_artificial())
+      for (const unsigned int v : cell->vertex_indices())
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            const auto dof       = cell->vertex_dof_index(v, c);
+            const bool on_face   = std::abs(cell->vertex(v)[0]) < 1e-12;
+            const bool is_constr = constraints.is_constrained(dof);
+            if (is_constr != on_face || (is_constr && constraints.get_inhomogeneity(dof) != 0.25))
+              ++wrong;
+          }
+  for (const auto dof : dof_handler.locally_owned_dofs())
+    owned_constrained += constraints.is_constrained(dof);
+  EXPECT_EQ(Utilities::MPI::sum(wrong, comm), 0u);
+  EXPECT_EQ(Utilities::MPI::sum(owned_constrained, comm), 3u * 6 * 5); // 6 x 5 vertices on x = 0
+}
+
+TEST(DistributedMesh, AMissingMeshFileStopsEveryRankWithOneMessage)
+{
+  parallel::fullydistributed::Triangulation<2> tria(MPI_COMM_WORLD);
+  try
+    {
+      physics::read_distributed_mesh<2>("/nonexistent/mesh.msh", 1, 0, TEST_OUTPUT_DIR, tria);
+      FAIL() << "no exception";
+    }
+  catch (const std::invalid_argument& e)
+    {
+      EXPECT_EQ(std::string(e.what()), "/nonexistent/mesh.msh: mesh file not found (parameter 'Mesh file')");
+    }
+}
+
+TEST(DistributedMesh, AGmshSourceIsMeshedOnceAndRefinedBeforePartitioning)
+{
+  parallel::fullydistributed::Triangulation<2> coarse(MPI_COMM_WORLD), fine(MPI_COMM_WORLD);
+  const std::string                            geo = std::string(MESH_DIR) + "/two_blocks_2d.geo";
+  physics::read_distributed_mesh<2>(geo, 1, 0, TEST_OUTPUT_DIR, coarse);
+  physics::read_distributed_mesh<2>(geo, 1, 1, TEST_OUTPUT_DIR, fine);
+  EXPECT_GT(coarse.n_global_active_cells(), 0u);
+  EXPECT_EQ(fine.n_global_active_cells(), 4 * coarse.n_global_active_cells());
+}
