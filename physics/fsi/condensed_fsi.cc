@@ -73,6 +73,11 @@ namespace physics::fsi
       void assemble_fluid(TrilinosWrappers::MPI::Vector& R, TrilinosWrappers::SparseMatrix* K,
                           TrilinosWrappers::SparseMatrix* S);
       multigrid::BlockSystem assemble(std::vector<double>& norms);
+      /// Testing: the Newton matrix times a direction v against central differences of the
+      /// residual along v (relative error per field, logged and printed).
+      void check_jacobian();
+      /// Field (0 structure, 1 fluid, 2 ALE) and field DOF of an owned row of the merged system.
+      std::pair<int, GlobalIndex> field_dof(GO g) const;
       GO   fluid_gid(GlobalIndex f) const;
       GO   mesh_gid(GlobalIndex m) const;
       bool is_interface_velocity(GlobalIndex f) const { return fluid_partner_.count(f) > 0; }
@@ -98,6 +103,7 @@ namespace physics::fsi
       std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_; ///< interface DOF -> structure DOF
       std::vector<GlobalIndex>           interface_velocities_, removed_mesh_; ///< sorted
       std::set<GlobalIndex>              mesh_fixed_;   ///< ALE DOFs on the inlet/outlet planes
+      std::vector<GlobalIndex>           fluid_inner_owned_, mesh_inner_owned_; ///< ascending
       GO                                 n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
       // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies
@@ -281,6 +287,22 @@ namespace physics::fsi
       n_solid_ = solid_dofs_.n_dofs();
       n_fluid_ = fluid_dofs_.n_dofs() - interface_velocities_.size();
       n_mesh_  = mesh_dofs_.n_dofs() - removed_mesh_.size();
+      for (const auto f : fluid_owned_)
+        if (!is_interface_velocity(f))
+          fluid_inner_owned_.push_back(f);
+      for (const auto m : mesh_owned_)
+        if (mesh_partner_.count(m) == 0)
+          mesh_inner_owned_.push_back(m);
+    }
+
+    std::pair<int, GlobalIndex> CondensedFsi::field_dof(GO g) const
+    {
+      // Owned rows are contiguous per field and rank, in the fields' own order.
+      if (g < n_solid_)
+        return {0, static_cast<GlobalIndex>(g)};
+      if (g < n_solid_ + n_fluid_)
+        return {1, fluid_inner_owned_.at(g - fluid_gid(fluid_inner_owned_.front()))};
+      return {2, mesh_inner_owned_.at(g - mesh_gid(mesh_inner_owned_.front()))};
     }
 
     GO CondensedFsi::fluid_gid(GlobalIndex f) const
@@ -478,8 +500,58 @@ namespace physics::fsi
       return system;
     }
 
-    Linearization CondensedFsi::linearize(int /*iteration*/)
+    void CondensedFsi::check_jacobian()
     {
+      // A direction of the fields' scales (displacements 1e-3, fluid 1), zero on the rows whose
+      // values are prescribed (clamped structure DOFs, fixed ALE DOFs).
+      std::vector<double>    norms;
+      multigrid::BlockSystem system = assemble(norms);
+      const auto             map    = system.full_map();
+      auto v  = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(map, 1, true);
+      auto Av = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(map, 1, true);
+      {
+        auto data = v->getDataNonConst(0);
+        for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
+          {
+            const GO g              = map->getGlobalElement(i);
+            const auto [field, dof] = field_dof(g);
+            const bool fixed = (field == 0 && solid_constraints_.is_constrained(dof)) ||
+                               (field == 2 && mesh_fixed_.count(dof) > 0);
+            data[i] = fixed ? 0.0 : (field == 1 ? 1.0 : 1e-3) * std::sin(1.3 * g + 0.4);
+          }
+      }
+      system.merged_matrix()->apply(*v, *Av);
+      const double eps = 1e-5;
+      update(*v); // x + v, then scaled by the step length below
+      set_update_length(eps);
+      auto plus = assemble(norms).rhs();
+      set_update_length(-eps);
+      auto minus = assemble(norms).rhs();
+      set_update_length(0.0);
+      // (rhs(-eps) - rhs(+eps)) / (2 eps) = dR/dx v, since rhs = -R.
+      minus->update(-1.0 / (2 * eps), *plus, 1.0 / (2 * eps));
+      const auto fd = system.block_norms(*minus);
+      minus->update(-1.0, *Av, 1.0);
+      const auto          error = system.block_norms(*minus), reference = system.block_norms(*Av);
+      JsonLinesLog::Line  line;
+      line.add("event", std::string("jacobian_check"));
+      pcout_ << "Jacobian check (central differences, eps = " << eps << "): relative error";
+      for (std::size_t k = 0; k < 3; ++k)
+        {
+          const double relative = error[k] / std::max(reference[k], 1e-300);
+          line.add("relative_error_" + field_names()[k], relative);
+          pcout_ << " " << field_names()[k] << " " << relative;
+        }
+      pcout_ << " (|J v| " << reference[0] << ", " << reference[1] << ", " << reference[2] << "; |FD| " << fd[0]
+             << ", " << fd[1] << ", " << fd[2] << ")\n";
+      if (log_.is_open())
+        log_.write(line);
+    }
+
+    Linearization CondensedFsi::linearize(int iteration)
+    {
+      if (p_.check_jacobian && iteration == 0 && steps_done_ == 1)
+        check_jacobian();
       Linearization result;
       system_               = assemble(result.residual_norms);
       result.system         = &system_;
@@ -494,24 +566,10 @@ namespace physics::fsi
       dd_G_ = 0;
       const auto data = dx.getData(0);
       const auto map  = dx.getMap();
-      std::vector<GlobalIndex> fluid_inner, mesh_inner;
-      for (const auto f : fluid_owned_)
-        if (!is_interface_velocity(f))
-          fluid_inner.push_back(f);
-      for (const auto m : mesh_owned_)
-        if (mesh_partner_.count(m) == 0)
-          mesh_inner.push_back(m);
-      const GO fluid_first = fluid_inner.empty() ? 0 : fluid_gid(fluid_inner.front());
-      const GO mesh_first  = mesh_inner.empty() ? 0 : mesh_gid(mesh_inner.front());
       for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
         {
-          const GO g = map->getGlobalElement(i);
-          if (g < n_solid_)
-            dd_S_[g] = data[i];
-          else if (g < n_solid_ + n_fluid_)
-            dx_F_[fluid_inner.at(g - fluid_first)] = data[i];
-          else
-            dd_G_[mesh_inner.at(g - mesh_first)] = data[i];
+          const auto [field, dof] = field_dof(map->getGlobalElement(i));
+          (field == 0 ? dd_S_ : field == 1 ? dx_F_ : dd_G_)[dof] = data[i];
         }
       dd_S_.compress(VectorOperation::insert);
       dx_F_.compress(VectorOperation::insert);

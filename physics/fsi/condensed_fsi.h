@@ -56,6 +56,7 @@ namespace physics::fsi
     // Load and time
     double inlet_pressure = 1.3332e4, pulse_duration = 3e-3, time_step = 1e-4, end_time = 1e-3;
     bool   shape_derivatives = true;
+    bool   check_jacobian    = false; ///< testing: J v against central differences in step 2
     // Newton and linear solver
     SolverParameters solver{1e-6, 1e-10, 15, "direct(superlu)", {}, 1e-8, 500, 200};
     // Output

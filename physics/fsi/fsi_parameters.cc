@@ -59,6 +59,9 @@ namespace physics::fsi
     prm.declare_entry("Shape derivatives", "true", Bool(),
                       "Include the fluid's derivatives with respect to the mesh displacement in the Jacobian "
                       "(false: Newton converges more slowly).");
+    prm.declare_entry("Check Jacobian", "false", Bool(),
+                      "Testing: at the start of time step 2, compare the Newton matrix times a direction with "
+                      "central differences of the residual; prints and logs the relative error per field.");
     prm.leave_subsection();
 
     d.solver.declare(prm, residual_fields());
@@ -115,6 +118,7 @@ namespace physics::fsi
 
     prm.enter_subsection("Coupling");
     shape_derivatives = prm.get_bool("Shape derivatives");
+    check_jacobian    = prm.get_bool("Check Jacobian");
     prm.leave_subsection();
 
     solver.parse(prm, residual_fields());
