@@ -390,6 +390,46 @@ namespace
       }
   }
 
+  /// A mesh motion that folds the cells next to x = 1 over once t > 0.5: d_x = 2 t X^2 (1 - X),
+  /// det F = 1 - 2 t at X = 1.
+  class FoldingMotion : public Function<2>
+  {
+  public:
+    FoldingMotion()
+        : Function<2>(2)
+    {
+    }
+    double value(const Point<2>& X, unsigned int c) const override
+    {
+      return c == 0 ? 2.0 * get_time() * X[0] * X[0] * (1.0 - X[0]) : 0.0;
+    }
+  };
+
+  TEST(FsiFluid, InvertedMeshCellsCutTheStepAndStopTheRunCleanly)
+  {
+    // The prescribed motion inverts cells during the run: the assembly's std::domain_error
+    // reaches every rank, Newton reports it, the step driver cuts the step until its limit.
+    parallel::distributed::Triangulation<2> tria(comm);
+    GridGenerator::subdivided_hyper_cube(tria, 8, 0.0, 1.0, true);
+    FluidFlowSetup<2> s;
+    s.model.properties = {1.0, 0.1};
+    s.model.scheme     = FluidTimeScheme::bdf1;
+    auto rest          = std::make_shared<Functions::ZeroFunction<2>>(3);
+    for (types::boundary_id b = 0; b < 4; ++b)
+      s.velocity[b] = rest;
+    s.pressure_point = std::make_pair(Point<2>(0.0, 0.0), rest);
+    s.mesh_motion    = std::make_shared<FoldingMotion>();
+    FluidFlow<2> flow(tria, s, comm);
+    flow.set_initial_state(*rest);
+    const auto result = solve(flow, physics::StepSettings{1.0, 0.25, 0.01, 3, 2});
+    if (root())
+      std::cout << "inverted ALE cells: " << result.steps << " steps, " << result.cuts << " cuts, failure: " << result.failure
+                << "\n";
+    EXPECT_FALSE(result.converged);
+    EXPECT_GT(result.cuts, 0);
+    EXPECT_NE(result.failure.find("inverted fluid cell"), std::string::npos) << result.failure;
+  }
+
   /// min over cells and quadrature points of det(I + Grad d).
   double min_jacobian(const DoFHandler<2>& dofs, const Vec& d_owned)
   {

@@ -1,5 +1,6 @@
 #include "fsi/ale_fluid.h"
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
@@ -358,9 +359,13 @@ namespace physics::fsi
     const bool                           with_shape = shape_derivative != nullptr;
     const unsigned int                   n_independent = nf + (with_shape ? nm : 0);
 
+    // An inverted cell is found by its owner only: every rank learns of it (below) before the
+    // collective compress(), so that all of them throw and none waits.
+    std::string inverted;
     for (const auto& cell : fluid_dofs.active_cell_iterators())
+      try
       {
-        if (!cell->is_locally_owned())
+        if (!cell->is_locally_owned() || !inverted.empty())
           continue;
         fluid_values.reinit(cell);
         in.fluid.fill(fluid_values);
@@ -435,6 +440,13 @@ namespace physics::fsi
           constraints.distribute_local_to_global(S_local, fluid_indices, *mesh_constraints, mesh_indices,
                                                  *shape_derivative);
       }
+      catch (const std::domain_error& e)
+      {
+        inverted = e.what();
+      }
+    const MPI_Comm comm = residual.get_mpi_communicator();
+    if (Utilities::MPI::max(inverted.empty() ? 0 : 1, comm) > 0)
+      throw std::domain_error(inverted.empty() ? "inverted fluid cell on another rank" : inverted);
     residual.compress(VectorOperation::add);
     if (jacobian != nullptr)
       jacobian->compress(VectorOperation::add);
