@@ -42,7 +42,7 @@ int main(int argc, char** argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   multigrid::TrilinosScope                 tpetra(argv);
-  const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  const bool               root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   dealii::ParameterHandler prm;
   physics::fsi::FsiParameters::declare(prm);
   return physics::run_app("fsi", root, [&]() {
@@ -63,10 +63,14 @@ int main(int argc, char** argv)
                                 : *std::max_element(summary.max_wall_displacement.begin(),
                                                     summary.max_wall_displacement.end());
         std::cout << "Summary: " << summary.newton_iterations.size() << " time steps, " << total_newton
-                  << " Newton steps (" << (summary.newton_iterations.empty() ? 0.0 : double(total_newton) / summary.newton_iterations.size())
-                  << " per step); system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs
-                  << ", ALE " << summary.ale_dofs << " DOFs; setup " << summary.setup_seconds << " s, solve "
-                  << summary.solve_seconds << " s; largest wall displacement " << std::setprecision(12) << wall << "; "
+                  << " Newton steps ("
+                  << (summary.newton_iterations.empty()
+                          ? 0.0
+                          : double(total_newton) / summary.newton_iterations.size())
+                  << " per step); system: structure " << summary.structure_dofs << ", fluid "
+                  << summary.fluid_dofs << ", ALE " << summary.ale_dofs << " DOFs; setup "
+                  << summary.setup_seconds << " s, solve " << summary.solve_seconds
+                  << " s; largest wall displacement " << std::setprecision(12) << wall << "; "
                   << (summary.converged ? "converged" : "NOT converged") << "\n";
       }
     return summary.converged ? 0 : 1;

@@ -39,7 +39,10 @@ namespace
 
   const MPI_Comm comm = MPI_COMM_WORLD;
 
-  bool root() { return Utilities::MPI::this_mpi_process(comm) == 0; }
+  bool root()
+  {
+    return Utilities::MPI::this_mpi_process(comm) == 0;
+  }
 
   /// Runs `problem` over the steps of `steps` with Newton and direct(superlu); returns the
   /// driver's result.
@@ -52,18 +55,26 @@ namespace
     physics::JsonLinesLog log;
     ConditionalOStream    console(std::cout, false);
     TimerOutput           timer(console, TimerOutput::never, TimerOutput::wall_times);
-    physics::NewtonSolver newton(settings, multigrid::load_preset("direct(superlu)"), {}, log, console, timer, comm);
+    physics::NewtonSolver newton(settings, multigrid::load_preset("direct(superlu)"), {}, log, console, timer,
+                                 comm);
     return physics::run_steps(problem, steps, newton, log, console);
   }
 
-  physics::StepSettings one_step() { return physics::StepSettings{1.0, 1.0, 0.0, 0, 0}; }
+  physics::StepSettings one_step()
+  {
+    return physics::StepSettings{1.0, 1.0, 0.0, 0, 0};
+  }
 
   /// Poiseuille flow in [0, L] x [0, H]: u = 4 U y (H - y) / H^2, p = G (L - x), G = 8 mu U / H^2.
   class Poiseuille : public Function<2>
   {
   public:
     Poiseuille(double U, double H, double L, double mu)
-        : Function<2>(3), U_(U), H_(H), L_(L), G_(8 * mu * U / (H * H))
+        : Function<2>(3)
+        , U_(U)
+        , H_(H)
+        , L_(L)
+        , G_(8 * mu * U / (H * H))
     {
     }
     double value(const Point<2>& x, unsigned int c) const override
@@ -89,7 +100,8 @@ namespace
   {
   public:
     explicit Kovasznay(double Re)
-        : Function<2>(3), l_(Re / 2 - std::sqrt(Re * Re / 4 + 4 * M_PI * M_PI))
+        : Function<2>(3)
+        , l_(Re / 2 - std::sqrt(Re * Re / 4 + 4 * M_PI * M_PI))
     {
     }
     double value(const Point<2>& x, unsigned int c) const override
@@ -120,7 +132,8 @@ namespace
   {
   public:
     explicit DeformingMotion(Tensor<1, 2> V = {})
-        : Function<2>(2), V_(V)
+        : Function<2>(2)
+        , V_(V)
     {
     }
     double value(const Point<2>& X, unsigned int c) const override
@@ -138,7 +151,8 @@ namespace
   {
   public:
     explicit WallMotion(Tensor<1, 2> V = {})
-        : Function<2>(2), V_(V)
+        : Function<2>(2)
+        , V_(V)
     {
     }
     double value(const Point<2>& X, unsigned int c) const override
@@ -183,7 +197,8 @@ namespace
     DoFHandler<2>     fluid(tria), mesh(tria);
     fluid.distribute_dofs(fluid_fe);
     mesh.distribute_dofs(mesh_fe);
-    const IndexSet fluid_all = complete_index_set(fluid.n_dofs()), mesh_all = complete_index_set(mesh.n_dofs());
+    const IndexSet fluid_all = complete_index_set(fluid.n_dofs()),
+                   mesh_all  = complete_index_set(mesh.n_dofs());
     const AffineConstraints<double> none_fluid, none_mesh;
     DynamicSparsityPattern          ff(fluid.n_dofs()), fm(fluid.n_dofs(), mesh.n_dofs());
     DoFTools::make_sparsity_pattern(fluid, ff);
@@ -191,7 +206,8 @@ namespace
     for (const auto& cell : fluid.active_cell_iterators())
       {
         cell->get_dof_indices(fi);
-        typename DoFHandler<2>::active_cell_iterator(&tria, cell->level(), cell->index(), &mesh)->get_dof_indices(mi);
+        typename DoFHandler<2>::active_cell_iterator(&tria, cell->level(), cell->index(), &mesh)
+            ->get_dof_indices(mi);
         for (const auto i : fi)
           for (const auto j : mi)
             fm.add(i, j);
@@ -201,15 +217,18 @@ namespace
     S.reinit(fluid_all, mesh_all, fm, MPI_COMM_SELF);
 
     physics::fsi::FluidModel<2> model;
-    model.properties              = {2.0, 0.05};
-    model.scheme                  = FluidTimeScheme::bdf2;
-    model.time_step               = 0.1;
-    model.boundary_pressures[1]   = 0.3;
-    Vec u = perturbed(fluid_all, 1.0, 0.3), u_old = perturbed(fluid_all, 0.8, 0.7), u_older = perturbed(fluid_all, 0.6, 1.1);
-    Vec d = perturbed(mesh_all, 0.02, 0.2), d_old = perturbed(mesh_all, 0.015, 0.5), d_older = perturbed(mesh_all, 0.01, 0.9);
-    auto residual = [&](const Vec& uu, const Vec& dd, TrilinosWrappers::SparseMatrix* KK, TrilinosWrappers::SparseMatrix* SS) {
+    model.properties            = {2.0, 0.05};
+    model.scheme                = FluidTimeScheme::bdf2;
+    model.time_step             = 0.1;
+    model.boundary_pressures[1] = 0.3;
+    Vec u = perturbed(fluid_all, 1.0, 0.3), u_old = perturbed(fluid_all, 0.8, 0.7),
+        u_older = perturbed(fluid_all, 0.6, 1.1);
+    Vec d = perturbed(mesh_all, 0.02, 0.2), d_old = perturbed(mesh_all, 0.015, 0.5),
+        d_older   = perturbed(mesh_all, 0.01, 0.9);
+    auto residual = [&](const Vec& uu, const Vec& dd, TrilinosWrappers::SparseMatrix* KK,
+                        TrilinosWrappers::SparseMatrix* SS) {
       physics::fsi::FluidState<2> state{&uu, &u_old, &u_older, &dd, &d_old, &d_older};
-      Vec r(fluid_all, MPI_COMM_SELF);
+      Vec                         r(fluid_all, MPI_COMM_SELF);
       if (KK != nullptr)
         *KK = 0;
       if (SS != nullptr)
@@ -268,9 +287,9 @@ namespace
         ASSERT_TRUE(result.converged) << result.failure;
         const auto e = flow.errors(*exact);
         if (root())
-          std::cout << "Poiseuille " << 2 * n << " x " << n << ": Newton steps " << result.newton[0].iterations
-                    << ", ||u - u_h|| = " << e.velocity_l2 << ", |u - u_h|_1 = " << e.velocity_h1
-                    << ", ||p - p_h|| = " << e.pressure_l2 << "\n";
+          std::cout << "Poiseuille " << 2 * n << " x " << n << ": Newton steps "
+                    << result.newton[0].iterations << ", ||u - u_h|| = " << e.velocity_l2
+                    << ", |u - u_h|_1 = " << e.velocity_h1 << ", ||p - p_h|| = " << e.pressure_l2 << "\n";
         // Not exact: Q1 cannot represent the viscous term of the strong residual (zero on each
         // cell), so PSPG/SUPG see r_M = grad p = -G e_x instead of 0, an O(tau) = O(h^2) error.
         if (previous > 0) // second order in the velocity under refinement
@@ -284,13 +303,14 @@ namespace
   {
     // Re = 40 on [-0.5, 1] x [-0.5, 1.5], the exact velocity on the whole boundary, the pressure
     // fixed at one corner; errors on three meshes and the observed orders of the finest pair.
-    const double Re = 40.0;
+    const double                          Re = 40.0;
     std::vector<physics::fsi::FlowErrors> errors;
     std::vector<double>                   h;
     for (const unsigned n : {8u, 16u, 32u})
       {
         parallel::distributed::Triangulation<2> tria(comm);
-        GridGenerator::subdivided_hyper_rectangle(tria, {3 * n / 2, 2 * n}, Point<2>(-0.5, -0.5), Point<2>(1.0, 1.5), true);
+        GridGenerator::subdivided_hyper_rectangle(tria, {3 * n / 2, 2 * n}, Point<2>(-0.5, -0.5),
+                                                  Point<2>(1.0, 1.5), true);
         FluidFlowSetup<2> s;
         s.model.properties = {1.0, 1.0 / Re};
         auto exact         = std::make_shared<Kovasznay>(Re);
@@ -304,20 +324,22 @@ namespace
         errors.push_back(flow.errors(*exact));
         h.push_back(1.0 / n);
         if (root())
-          std::cout << "Kovasznay h = 1/" << n << " (" << flow.dof_handler().n_dofs() << " DOFs): Newton steps "
-                    << result.newton[0].iterations << ", " << timer.wall_time() << " s, ||u - u_h|| = "
-                    << errors.back().velocity_l2 << ", |u - u_h|_1 = " << errors.back().velocity_h1
+          std::cout << "Kovasznay h = 1/" << n << " (" << flow.dof_handler().n_dofs()
+                    << " DOFs): Newton steps " << result.newton[0].iterations << ", " << timer.wall_time()
+                    << " s, ||u - u_h|| = " << errors.back().velocity_l2
+                    << ", |u - u_h|_1 = " << errors.back().velocity_h1
                     << ", ||p - p_h|| = " << errors.back().pressure_l2 << "\n";
       }
     for (std::size_t k = 1; k < errors.size(); ++k)
       {
-        const double r = std::log(h[k - 1] / h[k]);
+        const double r    = std::log(h[k - 1] / h[k]);
         const double u_l2 = std::log(errors[k - 1].velocity_l2 / errors[k].velocity_l2) / r;
         const double u_h1 = std::log(errors[k - 1].velocity_h1 / errors[k].velocity_h1) / r;
         const double p_l2 = std::log(errors[k - 1].pressure_l2 / errors[k].pressure_l2) / r;
         if (root())
-          std::cout << "Kovasznay orders (h = 1/" << 8 * (1 << (k - 1)) << " -> 1/" << 8 * (1 << k) << "): velocity L2 "
-                    << u_l2 << ", velocity H1 " << u_h1 << ", pressure L2 " << p_l2 << "\n";
+          std::cout << "Kovasznay orders (h = 1/" << 8 * (1 << (k - 1)) << " -> 1/" << 8 * (1 << k)
+                    << "): velocity L2 " << u_l2 << ", velocity H1 " << u_h1 << ", pressure L2 " << p_l2
+                    << "\n";
         // Q1/Q1: 2 for the velocity in L2 (reached from below: at Re = 40 the cell Peclet numbers
         // are near 1 here, where tau is still O(h), not O(h^2)), 1 in H1, 1.5 for p (observed).
         if (k + 1 == errors.size())
@@ -339,7 +361,7 @@ namespace
     FluidFlowSetup<2> s;
     s.model.properties = {1.0, 0.01};
     s.model.scheme     = scheme;
-    auto state         = std::make_shared<Functions::ConstantFunction<2>>(std::vector<double>{V[0], V[1], 0.0});
+    auto state = std::make_shared<Functions::ConstantFunction<2>>(std::vector<double>{V[0], V[1], 0.0});
     for (types::boundary_id b = 0; b < 4; ++b)
       s.velocity[b] = state;
     s.pressure_point = std::make_pair(Point<2>(0.0, 0.0), state);
@@ -362,10 +384,11 @@ namespace
     const double residual  = flow.residual_norm();
     const double moved     = flow.mesh_displacement().linfty_norm();
     if (root())
-      std::cout << "geometric conservation, V = " << V << ", " << (scheme == FluidTimeScheme::bdf1 ? "BDF1" : "BDF2")
+      std::cout << "geometric conservation, V = " << V << ", "
+                << (scheme == FluidTimeScheme::bdf1 ? "BDF1" : "BDF2")
                 << (pseudo_elastic ? ", pseudo-elastic mesh" : ", prescribed mesh") << ": " << result.steps
-                << " steps, max |d^G| = " << moved << ", max |x - x_exact| = " << deviation << ", ||R|| = " << residual
-                << "\n";
+                << " steps, max |d^G| = " << moved << ", max |x - x_exact| = " << deviation
+                << ", ||R|| = " << residual << "\n";
     EXPECT_EQ(result.steps, 10);
     EXPECT_GT(moved, 0.01); // the mesh did move
     EXPECT_LT(deviation, 1e-12);
@@ -423,8 +446,8 @@ namespace
     flow.set_initial_state(*rest);
     const auto result = solve(flow, physics::StepSettings{1.0, 0.25, 0.01, 3, 2});
     if (root())
-      std::cout << "inverted ALE cells: " << result.steps << " steps, " << result.cuts << " cuts, failure: " << result.failure
-                << "\n";
+      std::cout << "inverted ALE cells: " << result.steps << " steps, " << result.cuts
+                << " cuts, failure: " << result.failure << "\n";
     EXPECT_FALSE(result.converged);
     EXPECT_GT(result.cuts, 0);
     EXPECT_NE(result.failure.find("inverted fluid cell"), std::string::npos) << result.failure;
@@ -437,9 +460,9 @@ namespace
     DoFTools::extract_locally_relevant_dofs(dofs, relevant);
     Vec d(dofs.locally_owned_dofs(), relevant, comm);
     d = d_owned;
-    FEValues<2>                              fe_values(dofs.get_fe(), QGauss<2>(2), update_gradients);
-    std::vector<Tensor<2, 2>>                grads(4);
-    double                                   result = 1e300;
+    FEValues<2>               fe_values(dofs.get_fe(), QGauss<2>(2), update_gradients);
+    std::vector<Tensor<2, 2>> grads(4);
+    double                    result = 1e300;
     for (const auto& cell : dofs.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -460,20 +483,25 @@ namespace
       dy.push_back(std::pow(1.36, k) / 56.8);
     parallel::distributed::Triangulation<2> tria(comm);
     GridGenerator::subdivided_hyper_rectangle(tria, {std::vector<double>(10, 0.1), dy}, Point<2>(),
-                                              Point<2>(1.0, std::accumulate(dy.begin(), dy.end(), 0.0)), true);
+                                              Point<2>(1.0, std::accumulate(dy.begin(), dy.end(), 0.0)),
+                                              true);
     FESystem<2>   fe(FE_Q<2>(1), 2);
     DoFHandler<2> dofs(tria);
     dofs.distribute_dofs(fe);
     struct Bump : Function<2>
     {
-      Bump() : Function<2>(2) {}
+      Bump()
+          : Function<2>(2)
+      {
+      }
       double value(const Point<2>& X, unsigned int c) const override
       {
         return c == 1 ? 0.2 * std::sin(M_PI * X[0]) : 0.0;
       }
     } bump;
-    Functions::ZeroFunction<2> zero(2);
-    const std::map<types::boundary_id, const Function<2>*> walls{{0, &zero}, {1, &zero}, {2, &bump}, {3, &zero}};
+    Functions::ZeroFunction<2>                             zero(2);
+    const std::map<types::boundary_id, const Function<2>*> walls{
+        {0, &zero}, {1, &zero}, {2, &bump}, {3, &zero}};
     double det_min[2];
     for (const int chi : {0, 1})
       {
@@ -482,7 +510,8 @@ namespace
         motion.solve(walls, d);
         det_min[chi] = min_jacobian(dofs, d);
         if (root())
-          std::cout << "pseudo-elastic mesh, stiffening exponent " << chi << ": min det F = " << det_min[chi] << "\n";
+          std::cout << "pseudo-elastic mesh, stiffening exponent " << chi << ": min det F = " << det_min[chi]
+                    << "\n";
       }
     EXPECT_GT(det_min[1], det_min[0] + 0.05); // stiffening protects the small cells
     EXPECT_GT(det_min[1], 0.0);

@@ -22,12 +22,12 @@ namespace physics::fsi
   {
     switch (scheme)
       {
-        case FluidTimeScheme::bdf1:
-          return {1.0, -1.0, 0.0};
-        case FluidTimeScheme::bdf2:
-          return {1.5, -2.0, 0.5};
-        default:
-          return {};
+      case FluidTimeScheme::bdf1:
+        return {1.0, -1.0, 0.0};
+      case FluidTimeScheme::bdf2:
+        return {1.5, -2.0, 0.5};
+      default:
+        return {};
       }
   }
 
@@ -46,8 +46,14 @@ namespace physics::fsi
     /// Forward AD with storage on the stack: 3D fluid (32) plus mesh (24) derivatives fit.
     using AD = Sacado::Fad::SLFad<double, 64>;
 
-    inline double value_of(double x) { return x; }
-    inline double value_of(const AD& x) { return x.val(); }
+    inline double value_of(double x)
+    {
+      return x;
+    }
+    inline double value_of(const AD& x)
+    {
+      return x.val();
+    }
 
     template <int dim, typename T>
     using Matrix = std::array<std::array<T, dim>, dim>;
@@ -141,10 +147,10 @@ namespace physics::fsi
     template <int dim>
     struct CellInput
     {
-      ShapeData<dim>        fluid;
-      const ShapeData<dim>* mesh = nullptr; ///< null: mesh at rest
-      std::vector<double>   JxW;            ///< reference dX weights
-      std::vector<Point<dim>> X;            ///< reference quadrature points
+      ShapeData<dim>          fluid;
+      const ShapeData<dim>*   mesh = nullptr; ///< null: mesh at rest
+      std::vector<double>     JxW;            ///< reference dX weights
+      std::vector<Point<dim>> X;              ///< reference quadrature points
       // History of the time derivative: a1 x_n + a2 x_{n-1} per local DOF (fluid, mesh)
       std::vector<double> fluid_history, mesh_history;
       /// Boundary faces with a prescribed pressure: their shape data, normals and weights.
@@ -172,8 +178,8 @@ namespace physics::fsi
 
       // Pass 1: geometry of the moved cell (grad = F^-T Grad, dx = det F dX) and its size h.
       std::vector<std::vector<std::array<T, dim>>> g(nq, std::vector<std::array<T, dim>>(n));
-      std::vector<T>                                dx(nq);
-      T                                             volume = 0.0;
+      std::vector<T>                               dx(nq);
+      T                                            volume = 0.0;
       for (unsigned int q = 0; q < nq; ++q)
         {
           const auto m = moved_point<dim, T>(in.mesh, q, d);
@@ -194,9 +200,9 @@ namespace physics::fsi
       // Pass 2: the weak form at each quadrature point.
       for (unsigned int q = 0; q < nq; ++q)
         {
-          std::array<T, dim>              vel, dudt, c, conv, r_M, grad_p;
+          std::array<T, dim>                  vel, dudt, c, conv, r_M, grad_p;
           std::array<std::array<T, dim>, dim> grad_u;
-          T                               p = 0.0;
+          T                                   p = 0.0;
           for (int a = 0; a < dim; ++a)
             {
               vel[a] = dudt[a] = c[a] = grad_p[a] = 0.0;
@@ -246,7 +252,8 @@ namespace physics::fsi
                 conv[a] += c[k] * grad_u[a][k];
               r_M[a] = rho * ((transient ? dudt[a] : T(0.0)) + conv[a]) + grad_p[a] - rho * f[a];
             }
-          const T tau_M = 1.0 / sqrt((transient ? 4.0 / (dt * dt) : 0.0) + 4.0 * c2 / h2 + 16.0 * nu * nu / (h2 * h2));
+          const T tau_M =
+              1.0 / sqrt((transient ? 4.0 / (dt * dt) : 0.0) + 4.0 * c2 / h2 + 16.0 * nu * nu / (h2 * h2));
           const T tau_C = h2 / (4.0 * tau_M);
 
           for (unsigned int i = 0; i < n; ++i)
@@ -309,7 +316,8 @@ namespace physics::fsi
     /// a1 x_n + a2 x_{n-1} on the cell's DOFs.
     template <int dim>
     void history(const TrilinosWrappers::MPI::Vector* old, const TrilinosWrappers::MPI::Vector* older,
-                 const BdfWeights& bdf, const std::vector<types::global_dof_index>& dofs, std::vector<double>& out)
+                 const BdfWeights& bdf, const std::vector<types::global_dof_index>& dofs,
+                 std::vector<double>& out)
     {
       std::vector<double> x_old, x_older;
       read_local<dim>(old, dofs, x_old);
@@ -323,8 +331,9 @@ namespace physics::fsi
   template <int dim>
   void assemble_ale_fluid(const DoFHandler<dim>& fluid_dofs, const DoFHandler<dim>* mesh_dofs,
                           const FluidModel<dim>& model, const FluidState<dim>& state,
-                          const AffineConstraints<double>& constraints, TrilinosWrappers::MPI::Vector& residual,
-                          TrilinosWrappers::SparseMatrix* jacobian, TrilinosWrappers::SparseMatrix* shape_derivative,
+                          const AffineConstraints<double>& constraints,
+                          TrilinosWrappers::MPI::Vector& residual, TrilinosWrappers::SparseMatrix* jacobian,
+                          TrilinosWrappers::SparseMatrix*  shape_derivative,
                           const AffineConstraints<double>* mesh_constraints)
   {
     model.properties.check();
@@ -332,14 +341,15 @@ namespace physics::fsi
       throw std::invalid_argument("parameter 'Time step' (Fluid): expected a positive number");
     const bool moving = mesh_dofs != nullptr && state.mesh != nullptr;
     if (shape_derivative != nullptr && (!moving || mesh_constraints == nullptr))
-      throw std::invalid_argument("assemble_ale_fluid: shape derivatives need the mesh DoFHandler, state and constraints");
+      throw std::invalid_argument(
+          "assemble_ale_fluid: shape derivatives need the mesh DoFHandler, state and constraints");
     const BdfWeights bdf = BdfWeights::of(model.scheme);
 
     const QGauss<dim>     quadrature(2);
     const QGauss<dim - 1> face_quadrature(2);
-    const UpdateFlags     flags = update_values | update_gradients | update_JxW_values | update_quadrature_points;
-    FEValues<dim>         fluid_values(fluid_dofs.get_fe(), quadrature, flags);
-    FEFaceValues<dim>     fluid_face(fluid_dofs.get_fe(), face_quadrature, flags | update_normal_vectors);
+    const UpdateFlags flags = update_values | update_gradients | update_JxW_values | update_quadrature_points;
+    FEValues<dim>     fluid_values(fluid_dofs.get_fe(), quadrature, flags);
+    FEFaceValues<dim> fluid_face(fluid_dofs.get_fe(), face_quadrature, flags | update_normal_vectors);
     std::unique_ptr<FEValues<dim>>     mesh_values;
     std::unique_ptr<FEFaceValues<dim>> mesh_face;
     if (moving)
@@ -356,7 +366,7 @@ namespace physics::fsi
     std::vector<double>                  u_local, d_local, R_local;
     FullMatrix<double>                   K_local(nf, nf), S_local(nf, nm);
     Vector<double>                       r_local(nf);
-    const bool                           with_shape = shape_derivative != nullptr;
+    const bool                           with_shape    = shape_derivative != nullptr;
     const unsigned int                   n_independent = nf + (with_shape ? nm : 0);
 
     // An inverted cell is found by its owner only: every rank learns of it (below) before the
@@ -364,86 +374,86 @@ namespace physics::fsi
     std::string inverted;
     for (const auto& cell : fluid_dofs.active_cell_iterators())
       try
-      {
-        if (!cell->is_locally_owned() || !inverted.empty())
-          continue;
-        fluid_values.reinit(cell);
-        in.fluid.fill(fluid_values);
-        in.JxW = fluid_values.get_JxW_values();
-        in.X   = fluid_values.get_quadrature_points();
-        cell->get_dof_indices(fluid_indices);
-        read_local<dim>(state.fluid, fluid_indices, u_local);
-        history<dim>(state.fluid_old, state.fluid_older, bdf, fluid_indices, in.fluid_history);
-        typename DoFHandler<dim>::active_cell_iterator mesh_cell;
-        in.mesh = nullptr;
-        d_local.clear();
-        if (moving)
-          {
-            mesh_cell = typename DoFHandler<dim>::active_cell_iterator(&fluid_dofs.get_triangulation(), cell->level(),
-                                                                        cell->index(), mesh_dofs);
-            mesh_values->reinit(mesh_cell);
-            mesh_shape.fill(*mesh_values);
-            in.mesh = &mesh_shape;
-            mesh_cell->get_dof_indices(mesh_indices);
-            read_local<dim>(state.mesh, mesh_indices, d_local);
-            history<dim>(state.mesh_old, state.mesh_older, bdf, mesh_indices, in.mesh_history);
-          }
-        in.faces.clear();
-        for (const unsigned int f : cell->face_indices())
-          if (cell->at_boundary(f))
-            if (const auto it = model.boundary_pressures.find(cell->face(f)->boundary_id());
-                it != model.boundary_pressures.end())
-              {
-                typename CellInput<dim>::Face face;
-                face.pressure = it->second;
-                fluid_face.reinit(cell, f);
-                face.fluid.fill(fluid_face);
-                face.normal = fluid_face.get_normal_vectors();
-                face.JxW    = fluid_face.get_JxW_values();
-                if (moving)
-                  {
-                    mesh_face->reinit(mesh_cell, f);
-                    face.mesh.fill(*mesh_face);
-                  }
-                in.faces.push_back(std::move(face));
-              }
-
-        if (jacobian == nullptr && !with_shape)
-          {
-            cell_residual<dim, double>(in, model, bdf, u_local, d_local, R_local);
-            for (unsigned int i = 0; i < nf; ++i)
-              r_local[i] = R_local[i];
-            constraints.distribute_local_to_global(r_local, fluid_indices, residual);
+        {
+          if (!cell->is_locally_owned() || !inverted.empty())
             continue;
-          }
-        // Forward AD: the independent variables are the cell's fluid values, then (for the
-        // shape derivative) its mesh displacements.
-        std::vector<AD> u_ad(nf), d_ad(d_local.size()), R_ad;
-        for (unsigned int i = 0; i < nf; ++i)
-          u_ad[i] = AD(n_independent, i, u_local[i]);
-        for (std::size_t j = 0; j < d_local.size(); ++j)
-          d_ad[j] = with_shape ? AD(n_independent, nf + j, d_local[j]) : AD(d_local[j]);
-        cell_residual<dim, AD>(in, model, bdf, u_ad, d_ad, R_ad);
-        for (unsigned int i = 0; i < nf; ++i)
-          {
-            r_local[i] = R_ad[i].val();
-            for (unsigned int j = 0; j < nf; ++j)
-              K_local(i, j) = R_ad[i].size() > 0 ? R_ad[i].fastAccessDx(j) : 0.0;
-            for (unsigned int j = 0; with_shape && j < nm; ++j)
-              S_local(i, j) = R_ad[i].size() > 0 ? R_ad[i].fastAccessDx(nf + j) : 0.0;
-          }
-        if (jacobian != nullptr)
-          constraints.distribute_local_to_global(K_local, r_local, fluid_indices, *jacobian, residual);
-        else
-          constraints.distribute_local_to_global(r_local, fluid_indices, residual);
-        if (with_shape)
-          constraints.distribute_local_to_global(S_local, fluid_indices, *mesh_constraints, mesh_indices,
-                                                 *shape_derivative);
-      }
+          fluid_values.reinit(cell);
+          in.fluid.fill(fluid_values);
+          in.JxW = fluid_values.get_JxW_values();
+          in.X   = fluid_values.get_quadrature_points();
+          cell->get_dof_indices(fluid_indices);
+          read_local<dim>(state.fluid, fluid_indices, u_local);
+          history<dim>(state.fluid_old, state.fluid_older, bdf, fluid_indices, in.fluid_history);
+          typename DoFHandler<dim>::active_cell_iterator mesh_cell;
+          in.mesh = nullptr;
+          d_local.clear();
+          if (moving)
+            {
+              mesh_cell = typename DoFHandler<dim>::active_cell_iterator(
+                  &fluid_dofs.get_triangulation(), cell->level(), cell->index(), mesh_dofs);
+              mesh_values->reinit(mesh_cell);
+              mesh_shape.fill(*mesh_values);
+              in.mesh = &mesh_shape;
+              mesh_cell->get_dof_indices(mesh_indices);
+              read_local<dim>(state.mesh, mesh_indices, d_local);
+              history<dim>(state.mesh_old, state.mesh_older, bdf, mesh_indices, in.mesh_history);
+            }
+          in.faces.clear();
+          for (const unsigned int f : cell->face_indices())
+            if (cell->at_boundary(f))
+              if (const auto it = model.boundary_pressures.find(cell->face(f)->boundary_id());
+                  it != model.boundary_pressures.end())
+                {
+                  typename CellInput<dim>::Face face;
+                  face.pressure = it->second;
+                  fluid_face.reinit(cell, f);
+                  face.fluid.fill(fluid_face);
+                  face.normal = fluid_face.get_normal_vectors();
+                  face.JxW    = fluid_face.get_JxW_values();
+                  if (moving)
+                    {
+                      mesh_face->reinit(mesh_cell, f);
+                      face.mesh.fill(*mesh_face);
+                    }
+                  in.faces.push_back(std::move(face));
+                }
+
+          if (jacobian == nullptr && !with_shape)
+            {
+              cell_residual<dim, double>(in, model, bdf, u_local, d_local, R_local);
+              for (unsigned int i = 0; i < nf; ++i)
+                r_local[i] = R_local[i];
+              constraints.distribute_local_to_global(r_local, fluid_indices, residual);
+              continue;
+            }
+          // Forward AD: the independent variables are the cell's fluid values, then (for the
+          // shape derivative) its mesh displacements.
+          std::vector<AD> u_ad(nf), d_ad(d_local.size()), R_ad;
+          for (unsigned int i = 0; i < nf; ++i)
+            u_ad[i] = AD(n_independent, i, u_local[i]);
+          for (std::size_t j = 0; j < d_local.size(); ++j)
+            d_ad[j] = with_shape ? AD(n_independent, nf + j, d_local[j]) : AD(d_local[j]);
+          cell_residual<dim, AD>(in, model, bdf, u_ad, d_ad, R_ad);
+          for (unsigned int i = 0; i < nf; ++i)
+            {
+              r_local[i] = R_ad[i].val();
+              for (unsigned int j = 0; j < nf; ++j)
+                K_local(i, j) = R_ad[i].size() > 0 ? R_ad[i].fastAccessDx(j) : 0.0;
+              for (unsigned int j = 0; with_shape && j < nm; ++j)
+                S_local(i, j) = R_ad[i].size() > 0 ? R_ad[i].fastAccessDx(nf + j) : 0.0;
+            }
+          if (jacobian != nullptr)
+            constraints.distribute_local_to_global(K_local, r_local, fluid_indices, *jacobian, residual);
+          else
+            constraints.distribute_local_to_global(r_local, fluid_indices, residual);
+          if (with_shape)
+            constraints.distribute_local_to_global(S_local, fluid_indices, *mesh_constraints, mesh_indices,
+                                                   *shape_derivative);
+        }
       catch (const std::domain_error& e)
-      {
-        inverted = e.what();
-      }
+        {
+          inverted = e.what();
+        }
     const MPI_Comm comm = residual.get_mpi_communicator();
     if (Utilities::MPI::max(inverted.empty() ? 0 : 1, comm) > 0)
       throw std::domain_error(inverted.empty() ? "inverted fluid cell on another rank" : inverted);

@@ -52,7 +52,7 @@ namespace physics::fsi
   /// Weights of du/dt ~ (a0 x_{n+1} + a1 x_n + a2 x_{n-1}) / dt (all zero when steady).
   struct BdfWeights
   {
-    double a0 = 0, a1 = 0, a2 = 0;
+    double            a0 = 0, a1 = 0, a2 = 0;
     static BdfWeights of(FluidTimeScheme scheme);
   };
 
@@ -71,20 +71,20 @@ namespace physics::fsi
   template <int dim>
   struct FluidState
   {
-    const dealii::TrilinosWrappers::MPI::Vector* fluid     = nullptr; ///< (u, p)_{n+1}, the iterate
-    const dealii::TrilinosWrappers::MPI::Vector* fluid_old = nullptr; ///< (u, p)_n
+    const dealii::TrilinosWrappers::MPI::Vector* fluid       = nullptr; ///< (u, p)_{n+1}, the iterate
+    const dealii::TrilinosWrappers::MPI::Vector* fluid_old   = nullptr; ///< (u, p)_n
     const dealii::TrilinosWrappers::MPI::Vector* fluid_older = nullptr; ///< (u, p)_{n-1} (BDF2)
-    const dealii::TrilinosWrappers::MPI::Vector* mesh      = nullptr; ///< d^G_{n+1} (null: mesh at rest)
-    const dealii::TrilinosWrappers::MPI::Vector* mesh_old  = nullptr; ///< d^G_n
-    const dealii::TrilinosWrappers::MPI::Vector* mesh_older = nullptr; ///< d^G_{n-1} (BDF2)
+    const dealii::TrilinosWrappers::MPI::Vector* mesh        = nullptr; ///< d^G_{n+1} (null: mesh at rest)
+    const dealii::TrilinosWrappers::MPI::Vector* mesh_old    = nullptr; ///< d^G_n
+    const dealii::TrilinosWrappers::MPI::Vector* mesh_older  = nullptr; ///< d^G_{n-1} (BDF2)
   };
 
   template <int dim>
   struct FluidModel
   {
-    FluidProperties properties;
-    FluidTimeScheme scheme = FluidTimeScheme::steady;
-    double          time_step = 1.0;            ///< dt (> 0 unless steady)
+    FluidProperties              properties;
+    FluidTimeScheme              scheme     = FluidTimeScheme::steady;
+    double                       time_step  = 1.0;     ///< dt (> 0 unless steady)
     const dealii::Function<dim>* body_force = nullptr; ///< f (dim components, current x), null: none
     /// Prescribed pressure P per boundary id (traction -P n on the current boundary).
     std::map<dealii::types::boundary_id, double> boundary_pressures;
@@ -100,8 +100,8 @@ namespace physics::fsi
   void assemble_ale_fluid(const dealii::DoFHandler<dim>& fluid_dofs, const dealii::DoFHandler<dim>* mesh_dofs,
                           const FluidModel<dim>& model, const FluidState<dim>& state,
                           const dealii::AffineConstraints<double>& constraints,
-                          dealii::TrilinosWrappers::MPI::Vector& residual,
-                          dealii::TrilinosWrappers::SparseMatrix* jacobian,
-                          dealii::TrilinosWrappers::SparseMatrix* shape_derivative = nullptr,
+                          dealii::TrilinosWrappers::MPI::Vector&   residual,
+                          dealii::TrilinosWrappers::SparseMatrix*  jacobian,
+                          dealii::TrilinosWrappers::SparseMatrix*  shape_derivative = nullptr,
                           const dealii::AffineConstraints<double>* mesh_constraints = nullptr);
 } // namespace physics::fsi

@@ -35,7 +35,7 @@ namespace physics::fsi
     template <int dim>
     void cell_stiffness(const FEValues<dim>& fe_values, double E, double nu, FullMatrix<double>& K)
     {
-      const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+      const double                     lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
       const FEValuesExtractors::Vector displacement(0);
       const unsigned int               n = fe_values.get_fe().n_dofs_per_cell();
       K                                  = 0;
@@ -53,7 +53,8 @@ namespace physics::fsi
   } // namespace
 
   template <int dim>
-  AleMeshMotion<dim>::AleMeshMotion(const DoFHandler<dim>& mesh_dofs, MeshMotionSettings settings, MPI_Comm comm)
+  AleMeshMotion<dim>::AleMeshMotion(const DoFHandler<dim>& mesh_dofs, MeshMotionSettings settings,
+                                    MPI_Comm comm)
       : dofs_(mesh_dofs)
       , settings_(settings)
       , comm_(comm)
@@ -82,14 +83,15 @@ namespace physics::fsi
     const double mean = global[0] / global[1];
     for (const auto& cell : dofs_.active_cell_iterators())
       if (cell->is_locally_owned())
-        stiffening_[cell->active_cell_index()] = std::pow(mean / cell->measure(), settings_.stiffening_exponent);
+        stiffening_[cell->active_cell_index()] =
+            std::pow(mean / cell->measure(), settings_.stiffening_exponent);
 
     DynamicSparsityPattern pattern(relevant_);
     DoFTools::make_sparsity_pattern(dofs_, pattern);
     SparsityTools::distribute_sparsity_pattern(pattern, owned_, comm_, relevant_);
     stiffness_.reinit(owned_, owned_, pattern, comm_);
-    FEValues<dim>                        fe_values(dofs_.get_fe(), QGauss<dim>(2), update_gradients | update_JxW_values);
-    FullMatrix<double>                   K(dofs_.get_fe().n_dofs_per_cell(), dofs_.get_fe().n_dofs_per_cell());
+    FEValues<dim>      fe_values(dofs_.get_fe(), QGauss<dim>(2), update_gradients | update_JxW_values);
+    FullMatrix<double> K(dofs_.get_fe().n_dofs_per_cell(), dofs_.get_fe().n_dofs_per_cell());
     std::vector<types::global_dof_index> indices(K.m());
     for (const auto& cell : dofs_.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -117,11 +119,11 @@ namespace physics::fsi
     SparsityTools::distribute_sparsity_pattern(pattern, owned_, comm_, relevant_);
     TrilinosWrappers::SparseMatrix A;
     A.reinit(owned_, owned_, pattern, comm_);
-    TrilinosWrappers::MPI::Vector        b(owned_, comm_), x(owned_, comm_);
-    FEValues<dim>                        fe_values(dofs_.get_fe(), QGauss<dim>(2), update_gradients | update_JxW_values);
-    const unsigned int                   n = dofs_.get_fe().n_dofs_per_cell();
-    FullMatrix<double>                   K(n, n);
-    Vector<double>                       zero(n);
+    TrilinosWrappers::MPI::Vector b(owned_, comm_), x(owned_, comm_);
+    FEValues<dim>      fe_values(dofs_.get_fe(), QGauss<dim>(2), update_gradients | update_JxW_values);
+    const unsigned int n = dofs_.get_fe().n_dofs_per_cell();
+    FullMatrix<double> K(n, n);
+    Vector<double>     zero(n);
     std::vector<types::global_dof_index> indices(n);
     for (const auto& cell : dofs_.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -134,7 +136,7 @@ namespace physics::fsi
         }
     A.compress(VectorOperation::add);
     b.compress(VectorOperation::add);
-    SolverControl                    control(1, 0);
+    SolverControl                  control(1, 0);
     TrilinosWrappers::SolverDirect solver(control);
     solver.solve(A, x, b);
     constraints.distribute(x);

@@ -45,7 +45,7 @@ namespace physics::fsi
     /// d^G with d = g(X) on the boundary ids of `boundary` (each function dim components) and
     /// free elsewhere; `d` is the owned vector on return. Solved with a direct solver.
     void solve(const std::map<dealii::types::boundary_id, const dealii::Function<dim>*>& boundary,
-               dealii::TrilinosWrappers::MPI::Vector& d) const;
+               dealii::TrilinosWrappers::MPI::Vector&                                    d) const;
 
   private:
     void assemble();

@@ -72,10 +72,8 @@ namespace physics::fsi
   struct FsiRunSummary : RunSummary
   {
     long long structure_dofs = 0, fluid_dofs = 0, ale_dofs = 0; ///< blocks of the Newton system
-    /// Per converged step: the largest wall displacement (normal to the wall) and the fluid's
-    /// volume change, inflow and outflow over the step (mass balance).
+    /// Per converged step: the largest wall displacement (normal to the wall).
     std::vector<double> max_wall_displacement;
-    double              max_mass_imbalance = 0; ///< |inflow - outflow - dV| / max |inflow|
   };
 
   FsiRunSummary run_condensed_fsi(const FsiParameters& parameters, MPI_Comm comm);

@@ -184,7 +184,8 @@ namespace physics::fsi
     FluidModel<dim> model = s_.model;
     if (model.scheme == FluidTimeScheme::bdf2 && steps_done_ == 0)
       model.scheme = FluidTimeScheme::bdf1;
-    TrilinosWrappers::MPI::Vector old_ghosted(owned_, relevant_, comm_), older_ghosted(owned_, relevant_, comm_);
+    TrilinosWrappers::MPI::Vector old_ghosted(owned_, relevant_, comm_),
+        older_ghosted(owned_, relevant_, comm_);
     old_ghosted   = old_;
     older_ghosted = older_;
     FluidState<dim> state;
@@ -200,8 +201,8 @@ namespace physics::fsi
     residual_ = 0;
     if (with_jacobian)
       jacobian_ = 0;
-    assemble_ale_fluid<dim>(dofs_, s_.mesh_motion ? &mesh_dofs_ : nullptr, model, state, constraints_, residual_,
-                            with_jacobian ? &jacobian_ : nullptr);
+    assemble_ale_fluid<dim>(dofs_, s_.mesh_motion ? &mesh_dofs_ : nullptr, model, state, constraints_,
+                            residual_, with_jacobian ? &jacobian_ : nullptr);
   }
 
   template <int dim>
@@ -267,11 +268,11 @@ namespace physics::fsi
   template <int dim>
   FlowErrors FluidFlow<dim>::errors(Function<dim>& exact) const
   {
-    const QGauss<dim>                      quadrature(3);
-    const ComponentSelectFunction<dim>     velocity(std::make_pair(0u, static_cast<unsigned>(dim)), dim + 1);
-    const ComponentSelectFunction<dim>     pressure(dim, dim + 1);
-    const Triangulation<dim>&              tria = dofs_.get_triangulation();
-    Vector<float>                          cellwise(tria.n_active_cells());
+    const QGauss<dim>                  quadrature(3);
+    const ComponentSelectFunction<dim> velocity(std::make_pair(0u, static_cast<unsigned>(dim)), dim + 1);
+    const ComponentSelectFunction<dim> pressure(dim, dim + 1);
+    const Triangulation<dim>&          tria = dofs_.get_triangulation();
+    Vector<float>                      cellwise(tria.n_active_cells());
     auto norm = [&](const ComponentSelectFunction<dim>& mask, VectorTools::NormType type) {
       VectorTools::integrate_difference(dofs_, ghosted_, exact, cellwise, quadrature, type, &mask);
       return VectorTools::compute_global_error(tria, cellwise, type);
@@ -280,10 +281,10 @@ namespace physics::fsi
     e.velocity_l2 = norm(velocity, VectorTools::L2_norm);
     e.velocity_h1 = norm(velocity, VectorTools::H1_seminorm);
     // Mean-free pressure error: ||e - mean(e)||^2 = ||e||^2 - (int e)^2 / |Omega|.
-    const double p_l2 = norm(pressure, VectorTools::L2_norm);
+    const double p_l2       = norm(pressure, VectorTools::L2_norm);
     const double p_integral = norm(pressure, VectorTools::mean);
     const double volume     = GridTools::volume(tria);
-    e.pressure_l2 = std::sqrt(std::max(0.0, p_l2 * p_l2 - p_integral * p_integral / volume));
+    e.pressure_l2           = std::sqrt(std::max(0.0, p_l2 * p_l2 - p_integral * p_integral / volume));
     return e;
   }
 

@@ -82,33 +82,33 @@ namespace physics::fsi
     /// ||R|| of the current iterate (no Jacobian): for consistency checks.
     double residual_norm();
     /// Errors against `exact` (dim + 1 components) on the reference mesh (a mesh at rest).
-    FlowErrors errors(dealii::Function<dim>& exact) const;
-    const dealii::IndexSet&                       owned_dofs() const { return owned_; }
+    FlowErrors              errors(dealii::Function<dim>& exact) const;
+    const dealii::IndexSet& owned_dofs() const { return owned_; }
     /// The Newton increment's (homogeneous) Dirichlet constraints.
-    const dealii::AffineConstraints<double>&      constraints() const { return constraints_; }
+    const dealii::AffineConstraints<double>& constraints() const { return constraints_; }
 
   private:
     void setup_dofs();
     /// Dirichlet values of time `time` into `values` (inhomogeneous) and the iterate.
-    void apply_dirichlet(double time);
-    void assemble(bool with_jacobian);
+    void                   apply_dirichlet(double time);
+    void                   assemble(bool with_jacobian);
     multigrid::BlockSystem block_system() const;
     void                   update_ghosts();
     /// d^G at `time`: the prescribed motion, or its boundary values extended pseudo-elastically.
     void move_mesh(double time);
 
-    FluidFlowSetup<dim>   s_;
-    MPI_Comm              comm_;
-    dealii::FESystem<dim> fe_, mesh_fe_;
-    dealii::DoFHandler<dim> dofs_, mesh_dofs_;
-    dealii::IndexSet      owned_, relevant_, mesh_owned_, mesh_relevant_;
-    dealii::AffineConstraints<double> constraints_; ///< homogeneous: the Newton increment
-    dealii::IndexSet                  pressure_dofs_; ///< owned pressure DOFs (the continuity field)
+    FluidFlowSetup<dim>                    s_;
+    MPI_Comm                               comm_;
+    dealii::FESystem<dim>                  fe_, mesh_fe_;
+    dealii::DoFHandler<dim>                dofs_, mesh_dofs_;
+    dealii::IndexSet                       owned_, relevant_, mesh_owned_, mesh_relevant_;
+    dealii::AffineConstraints<double>      constraints_;   ///< homogeneous: the Newton increment
+    dealii::IndexSet                       pressure_dofs_; ///< owned pressure DOFs (the continuity field)
     dealii::TrilinosWrappers::SparseMatrix jacobian_;
     dealii::TrilinosWrappers::MPI::Vector  solution_, ghosted_, old_, older_, begin_, direction_, residual_;
     dealii::TrilinosWrappers::MPI::Vector  mesh_, mesh_old_, mesh_older_; ///< ghosted d^G
     double                                 update_length_ = 1;
-    int                                    steps_done_ = 0;
+    int                                    steps_done_    = 0;
     multigrid::BlockSystem                 system_;
     std::unique_ptr<AleMeshMotion<dim>>    mesh_motion_;
   };

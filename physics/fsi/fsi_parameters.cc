@@ -17,11 +17,14 @@ namespace physics::fsi
     const FsiParameters d;
     prm.enter_subsection("Geometry");
     prm.declare_entry("Length", std::to_string(d.length), Double(), "Channel length L (> 0; CGS: cm).");
-    prm.declare_entry("Height", std::to_string(d.height), Double(), "Channel height H between the walls (> 0).");
-    prm.declare_entry("Wall thickness", std::to_string(d.wall_thickness), Double(), "Thickness of each wall (> 0).");
+    prm.declare_entry("Height", std::to_string(d.height), Double(),
+                      "Channel height H between the walls (> 0).");
+    prm.declare_entry("Wall thickness", std::to_string(d.wall_thickness), Double(),
+                      "Thickness of each wall (> 0).");
     prm.declare_entry("Cells in x", std::to_string(d.cells_x), Integer(1, 100000),
                       "Cells along the channel (fluid and walls: the interface nodes match).");
-    prm.declare_entry("Fluid cells in y", std::to_string(d.cells_fluid_y), Integer(1, 100000), "Fluid cells across H.");
+    prm.declare_entry("Fluid cells in y", std::to_string(d.cells_fluid_y), Integer(1, 100000),
+                      "Fluid cells across H.");
     prm.declare_entry("Wall cells in y", std::to_string(d.cells_wall_y), Integer(1, 100000),
                       "Structure cells across each wall.");
     prm.leave_subsection();
@@ -32,7 +35,8 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("Structure");
-    prm.declare_entry("Young's modulus", "3e6", Double(), "E_S (> 0; CGS: dyn/cm^2, 3e6 = 3e5 Pa), Saint Venant-Kirchhoff.");
+    prm.declare_entry("Young's modulus", "3e6", Double(),
+                      "E_S (> 0; CGS: dyn/cm^2, 3e6 = 3e5 Pa), Saint Venant-Kirchhoff.");
     prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu_S (-1 < nu < 0.5).");
     prm.declare_entry("Density", "1.2", Double(), "rho_S (> 0; CGS: g/cm^3).");
     prm.declare_entry("Spectral radius", "1", Double(0, 1),
@@ -40,14 +44,17 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("ALE mesh");
-    prm.declare_entry("Poisson ratio", "0.3", Double(), "Of the pseudo-elastic mesh material (0 <= nu < 0.5).");
+    prm.declare_entry("Poisson ratio", "0.3", Double(),
+                      "Of the pseudo-elastic mesh material (0 <= nu < 0.5).");
     prm.declare_entry("Stiffening exponent", "1", Double(),
                       "chi >= 0: cell stiffness (mean |K| / |K|)^chi, small cells move more rigidly.");
     prm.leave_subsection();
 
     prm.enter_subsection("Loading");
-    prm.declare_entry("Inlet pressure", "1.3332e4", Double(), "Pressure on the inlet x = 0 during the pulse (CGS: dyn/cm^2).");
-    prm.declare_entry("Pulse duration", "3e-3", Double(), "The inlet pressure acts for 0 < t <= this, then 0 (>= 0; s).");
+    prm.declare_entry("Inlet pressure", "1.3332e4", Double(),
+                      "Pressure on the inlet x = 0 during the pulse (CGS: dyn/cm^2).");
+    prm.declare_entry("Pulse duration", "3e-3", Double(),
+                      "The inlet pressure acts for 0 < t <= this, then 0 (>= 0; s).");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -59,9 +66,10 @@ namespace physics::fsi
     prm.declare_entry("Shape derivatives", "true", Bool(),
                       "Include the fluid's derivatives with respect to the mesh displacement in the Jacobian "
                       "(false: Newton converges more slowly).");
-    prm.declare_entry("Check Jacobian", "false", Bool(),
-                      "Testing: at the start of time step 2, compare the Newton matrix times a direction with "
-                      "central differences of the residual; prints and logs the relative error per field.");
+    prm.declare_entry(
+        "Check Jacobian", "false", Bool(),
+        "Testing: at the start of time step 2, compare the Newton matrix times a direction with "
+        "central differences of the residual; prints and logs the relative error per field.");
     prm.leave_subsection();
 
     d.solver.declare(prm, residual_fields());
@@ -92,8 +100,9 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("Structure");
-    youngs_modulus  = positive(prm.get_double("Young's modulus"), "Young's modulus (Structure)");
-    poisson_ratio   = parameters::poisson_ratio(prm.get_double("Poisson's ratio"), "Poisson's ratio (Structure)");
+    youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Structure)");
+    poisson_ratio =
+        parameters::poisson_ratio(prm.get_double("Poisson's ratio"), "Poisson's ratio (Structure)");
     solid_density   = positive(prm.get_double("Density"), "Density (Structure)");
     spectral_radius = prm.get_double("Spectral radius");
     prm.leave_subsection();
