@@ -88,6 +88,14 @@ namespace physics::fsi
       VectorTools::interpolate_boundary_values(solid_dofs_, id, Functions::ZeroFunction<dim>(dim),
                                                solid_constraints_);
     solid_constraints_.close();
+    // parallel::shared without artificial cells: every rank sees every clamped face.
+    for (const auto& cell : solid_dofs_.active_cell_iterators())
+      for (const unsigned f : cell->face_indices())
+        if (cell->at_boundary(f) &&
+            (cell->face(f)->boundary_id() == inlet || cell->face(f)->boundary_id() == outlet))
+          for (const unsigned v : cell->face(f)->vertex_indices())
+            for (unsigned c = 0; c < dim; ++c)
+              solid_clamped_.insert(cell->face(f)->vertex_dof_index(v, c));
     const auto lame           = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
     solid_model_.materials[0] = make_material<dim>("SaintVenantKirchhoff", lame);
     solid_model_.densities[0] = p_.solid_density;
@@ -294,7 +302,7 @@ namespace physics::fsi
     // Rows of the merged system: (row gid) -> (column gid -> value), and the right-hand sides.
     RowPieces                     rows;
     std::map<GlobalIndex, double> rhs;
-    auto solid_free = [&](GlobalIndex sd) { return !solid_constraints_.is_constrained(sd); };
+    auto                          solid_free = [&](GlobalIndex sd) { return solid_clamped_.count(sd) == 0; };
     for (const auto sd : solid_owned_)
       {
         std::map<GO, double> entries;

@@ -99,9 +99,12 @@ namespace physics::fsi
 
     std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_; ///< interface DOF -> structure DOF
     std::vector<GlobalIndex>           interface_velocities_, removed_mesh_; ///< sorted
-    std::set<GlobalIndex>              mesh_fixed_; ///< ALE DOFs on the inlet/outlet planes
-    std::vector<GlobalIndex>           fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
-    multigrid::GO                      n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
+    /// Clamped structure DOFs, all of them on every rank (a fluid rank meets them as partners of
+    /// its interface DOFs even where the structure's constraints do not store them).
+    std::set<GlobalIndex>    solid_clamped_;
+    std::set<GlobalIndex>    mesh_fixed_;                             ///< ALE DOFs on the inlet/outlet planes
+    std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
+    multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
     // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies
     dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_ghosted_, v_S_ghosted_;

@@ -1,11 +1,12 @@
 // The fluid field of the FSI class on its own: the ALE Navier-Stokes equations of ale_fluid.h
-// on a mesh whose motion is prescribed (or at rest), stepped in time by the common step driver
+// on a mesh whose motion is prescribed (or at rest, or pseudo-elastic from prescribed boundary
+// motion), stepped in time by the common step driver
 // and solved by the common Newton method with the full AD Jacobian. The fluid unknowns (u, p)
 // are numbered node by node (dim + 1 DOFs per node), so the Newton system is handed over as a
 // one-block BlockSystem ("fluid", velocity/pressure constants as near-nullspace).
 //
 // It serves the fluid's verification (Poiseuille, Kovasznay, geometric conservation:
-// tests/test_fsi_fluid.cc) and is the fluid block the coupled problem builds on.
+// tests/test_fsi_fluid.cc); the coupled problem (condensed_fsi.h) calls the same assembler.
 #pragma once
 
 #include "common/step_driver.h"
