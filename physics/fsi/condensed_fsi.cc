@@ -81,6 +81,15 @@ namespace physics::fsi
     index_sets(mesh_dofs_, mesh_owned_, mesh_relevant_);
     index_sets(solid_dofs_, solid_owned_, solid_relevant_);
     solid_owned_per_rank_ = Utilities::MPI::all_gather(comm_, solid_owned_);
+    // Reference coordinates of the owned structure nodes, node-major in DOF order.
+    std::map<GlobalIndex, Point<dim>> vertex_of_dof;
+    for (const auto& cell : solid_dofs_.active_cell_iterators())
+      for (const unsigned v : cell->vertex_indices())
+        if (solid_owned_.is_element(cell->vertex_dof_index(v, 0)))
+          vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
+    for (const auto& [dof, x] : vertex_of_dof)
+      for (unsigned c = 0; c < dim; ++c)
+        solid_coordinates_.push_back(x[c]);
 
     // Structure: Saint Venant-Kirchhoff, clamped at both ends, generalized-alpha.
     solid_constraints_.reinit(solid_relevant_);
@@ -418,7 +427,9 @@ namespace physics::fsi
     blocks[1]   = {"fluid", 1, n_fluid_, 0, {}, {}, {}}; // interface nodes keep only their pressure
     blocks[2]   = {"ale", dim, n_mesh_, 0, {}, {}, {}};
     auto system = multigrid::BlockSystem::from_merged(teuchos_comm(comm_), blocks, block_gids, A, b);
-    system.block(0).nullspace = multigrid::translation_modes(system.block(0).map, dim);
+    // Near-nullspaces: the structure's rigid-body modes, the ALE block's translations (the
+    // fluid block's constants are the BlockSystem's default).
+    system.block(0).nullspace = multigrid::rigid_body_modes(system.block(0).map, dim, solid_coordinates_);
     system.block(2).nullspace = multigrid::translation_modes(system.block(2).map, dim);
     norms                     = system.block_norms(*system.rhs());
     return system;

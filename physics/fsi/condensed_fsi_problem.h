@@ -102,7 +102,8 @@ namespace physics::fsi
     /// Clamped structure DOFs, all of them on every rank (a fluid rank meets them as partners of
     /// its interface DOFs even where the structure's constraints do not store them).
     std::set<GlobalIndex>    solid_clamped_;
-    std::set<GlobalIndex>    mesh_fixed_;                             ///< ALE DOFs on the inlet/outlet planes
+    std::vector<double>      solid_coordinates_; ///< owned structure nodes, node-major (rigid-body modes)
+    std::set<GlobalIndex>    mesh_fixed_;        ///< ALE DOFs on the inlet/outlet planes
     std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
     multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
