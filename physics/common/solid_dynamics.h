@@ -34,6 +34,8 @@ namespace physics
     /// Initial velocity (set entries, then compress(insert)).
     dealii::TrilinosWrappers::MPI::Vector& velocity() { return v_; }
     const dealii::TrilinosWrappers::MPI::Vector& velocity() const { return v_; }
+    /// a_n (a_{n+1} after end_step); FSI's kinematic coupling reads it.
+    const dealii::TrilinosWrappers::MPI::Vector& acceleration() const { return a_; }
 
     /// a_0 from M a_0 = -r(u_0, t_0) on the DOFs free in `constraints` (zero where constrained).
     /// Skips the solve when r vanishes (a body at rest or in rigid motion, unloaded).

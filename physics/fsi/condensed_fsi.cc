@@ -1,0 +1,438 @@
+// CondensedFsi (condensed_fsi_problem.h): the meshes, the fields, the interface maps and the
+// Newton system of the condensed formulation.
+#include "fsi/condensed_fsi_problem.h"
+
+#include "common/row_exchange.h"
+#include "common/tpetra_bridge.h"
+
+#include <Xpetra_MultiVectorFactory.hpp>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+namespace physics::fsi
+{
+  using namespace dealii;
+  using multigrid::GO;
+
+  CondensedFsi::CondensedFsi(const FsiParameters& p, MPI_Comm comm)
+      : p_(p)
+      , comm_(comm)
+      , rank_(Utilities::MPI::this_mpi_process(comm))
+      , pcout_(std::cout, rank_ == 0)
+      , timer_(pcout_, TimerOutput::never, TimerOutput::wall_times)
+      , fluid_tria_(comm, Triangulation<dim>::none, false,
+                    parallel::shared::Triangulation<dim>::partition_metis)
+      , solid_tria_(comm, Triangulation<dim>::none, false,
+                    parallel::shared::Triangulation<dim>::partition_metis)
+      , fluid_fe_(FE_Q<dim>(1), dim + 1)
+      , vector_fe_(FE_Q<dim>(1), dim)
+      , fluid_dofs_(fluid_tria_)
+      , mesh_dofs_(fluid_tria_)
+      , solid_dofs_(solid_tria_)
+  {
+  }
+
+  void CondensedFsi::make_meshes()
+  {
+    // Fluid [0, L] x [0, H]; walls below and above with the same nodes along x (matching).
+    const unsigned nx = p_.cells_x, nf = p_.cells_fluid_y, nw = p_.cells_wall_y;
+    GridGenerator::subdivided_hyper_rectangle(fluid_tria_, {nx, nf}, Point<dim>(),
+                                              Point<dim>(p_.length, p_.height), true);
+    Triangulation<dim> lower, upper;
+    GridGenerator::subdivided_hyper_rectangle(lower, {nx, nw}, Point<dim>(0, -p_.wall_thickness),
+                                              Point<dim>(p_.length, 0));
+    GridGenerator::subdivided_hyper_rectangle(upper, {nx, nw}, Point<dim>(0, p_.height),
+                                              Point<dim>(p_.length, p_.height + p_.wall_thickness));
+    GridGenerator::merge_triangulations(lower, upper, solid_tria_);
+    const double tol = 1e-9 * p_.length;
+    for (const auto& cell : solid_tria_.active_cell_iterators())
+      for (const unsigned f : cell->face_indices())
+        if (cell->at_boundary(f))
+          {
+            const Point<dim> c = cell->face(f)->center();
+            cell->face(f)->set_boundary_id(std::abs(c[1]) < tol               ? bottom
+                                           : std::abs(c[1] - p_.height) < tol ? top
+                                           : std::abs(c[0]) < tol             ? inlet
+                                           : std::abs(c[0] - p_.length) < tol ? outlet
+                                                                              : outer);
+          }
+  }
+
+  void CondensedFsi::setup_fields()
+  {
+    fluid_dofs_.distribute_dofs(fluid_fe_);
+    mesh_dofs_.distribute_dofs(vector_fe_);
+    solid_dofs_.distribute_dofs(vector_fe_);
+    auto index_sets = [](const DoFHandler<dim>& dofs, IndexSet& owned, IndexSet& relevant) {
+      owned = dofs.locally_owned_dofs();
+      DoFTools::extract_locally_relevant_dofs(dofs, relevant);
+    };
+    index_sets(fluid_dofs_, fluid_owned_, fluid_relevant_);
+    index_sets(mesh_dofs_, mesh_owned_, mesh_relevant_);
+    index_sets(solid_dofs_, solid_owned_, solid_relevant_);
+    solid_owned_per_rank_ = Utilities::MPI::all_gather(comm_, solid_owned_);
+    // Reference coordinates of the owned structure nodes, node-major in DOF order.
+    std::map<GlobalIndex, Point<dim>> vertex_of_dof;
+    for (const auto& cell : solid_dofs_.active_cell_iterators())
+      for (const unsigned v : cell->vertex_indices())
+        if (solid_owned_.is_element(cell->vertex_dof_index(v, 0)))
+          vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
+    for (const auto& [dof, x] : vertex_of_dof)
+      for (unsigned c = 0; c < dim; ++c)
+        solid_coordinates_.push_back(x[c]);
+
+    // Structure: Saint Venant-Kirchhoff, clamped at both ends, generalized-alpha.
+    solid_constraints_.reinit(solid_relevant_);
+    for (const types::boundary_id id : {inlet, outlet})
+      VectorTools::interpolate_boundary_values(solid_dofs_, id, Functions::ZeroFunction<dim>(dim),
+                                               solid_constraints_);
+    solid_constraints_.close();
+    // parallel::shared without artificial cells: every rank sees every clamped face.
+    for (const auto& cell : solid_dofs_.active_cell_iterators())
+      for (const unsigned f : cell->face_indices())
+        if (cell->at_boundary(f) &&
+            (cell->face(f)->boundary_id() == inlet || cell->face(f)->boundary_id() == outlet))
+          for (const unsigned v : cell->face(f)->vertex_indices())
+            for (unsigned c = 0; c < dim; ++c)
+              solid_clamped_.insert(cell->face(f)->vertex_dof_index(v, c));
+    const auto lame           = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
+    solid_model_.materials[0] = make_material<dim>("SaintVenantKirchhoff", lame);
+    solid_model_.densities[0] = p_.solid_density;
+    for (const auto& cell : solid_tria_.active_cell_iterators())
+      cell->set_material_id(0);
+    DynamicSparsityPattern solid_pattern(solid_relevant_);
+    DoFTools::make_sparsity_pattern(solid_dofs_, solid_pattern, solid_constraints_, false);
+    SparsityTools::distribute_sparsity_pattern(solid_pattern, solid_owned_, comm_, solid_relevant_);
+    K_S_.reinit(solid_owned_, solid_owned_, solid_pattern, comm_);
+    dynamics_ = std::make_unique<SolidDynamics<dim>>(p_.spectral_radius, p_.time_step, solid_dofs_,
+                                                     solid_model_, solid_owned_, solid_relevant_, comm_);
+
+    // Fluid: no Dirichlet rows (the walls are the interface, inlet and outlet take tractions).
+    fluid_constraints_.reinit(fluid_relevant_);
+    fluid_constraints_.close();
+    mesh_free_.reinit(mesh_relevant_);
+    mesh_free_.close();
+    fluid_model_.properties = {p_.fluid_density, p_.fluid_viscosity};
+    fluid_model_.scheme     = FluidTimeScheme::bdf1;
+    DynamicSparsityPattern fluid_pattern(fluid_relevant_),
+        shape_pattern(fluid_dofs_.n_dofs(), mesh_dofs_.n_dofs(), fluid_relevant_);
+    DoFTools::make_sparsity_pattern(fluid_dofs_, fluid_pattern, fluid_constraints_, false);
+    SparsityTools::distribute_sparsity_pattern(fluid_pattern, fluid_owned_, comm_, fluid_relevant_);
+    K_F_.reinit(fluid_owned_, fluid_owned_, fluid_pattern, comm_);
+    std::vector<types::global_dof_index> fi(fluid_fe_.n_dofs_per_cell()), mi(vector_fe_.n_dofs_per_cell());
+    for (const auto& cell : fluid_dofs_.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(fi);
+          DoFHandler<dim>::active_cell_iterator(&fluid_tria_, cell->level(), cell->index(), &mesh_dofs_)
+              ->get_dof_indices(mi);
+          for (const auto i : fi)
+            for (const auto j : mi)
+              shape_pattern.add(i, j);
+        }
+    SparsityTools::distribute_sparsity_pattern(shape_pattern, fluid_owned_, comm_, fluid_relevant_);
+    S_F_.reinit(fluid_owned_, mesh_owned_, shape_pattern, comm_);
+
+    mesh_motion_ = std::make_unique<AleMeshMotion<dim>>(
+        mesh_dofs_, MeshMotionSettings{p_.ale_poisson_ratio, p_.ale_stiffening}, comm_);
+    match_interface();
+
+    solid_ghosts_ = solid_relevant_;
+    for (const auto& [f, s] : fluid_partner_)
+      solid_ghosts_.add_index(s);
+    for (auto* v : {&d_S_, &d_S_old_, &d_S_begin_, &dd_S_})
+      v->reinit(solid_owned_, comm_);
+    d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
+    v_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
+    for (auto* v : {&x_F_, &x_F_old_, &x_F_older_, &x_F_begin_, &dx_F_})
+      v->reinit(fluid_owned_, comm_);
+    x_F_ghosted_.reinit(fluid_owned_, fluid_relevant_, comm_);
+    for (auto* v : {&d_G_, &d_G_old_, &d_G_older_, &d_G_begin_, &dd_G_})
+      v->reinit(mesh_owned_, comm_);
+    d_G_ghosted_.reinit(mesh_owned_, mesh_relevant_, comm_);
+  }
+
+  void CondensedFsi::match_interface()
+  {
+    // parallel::shared: every rank knows every cell's DOFs, so the maps are built everywhere
+    // without communication. Structure interface vertices keyed by their coordinates.
+    const double tol = 1e-9 * p_.length;
+    auto         key = [tol](const Point<dim>& x) {
+      return std::make_pair(std::llround(x[0] / tol), std::llround(x[1] / tol));
+    };
+    std::map<std::pair<long long, long long>, GlobalIndex> solid_node; // first DOF of the vertex
+    for (const auto& cell : solid_dofs_.active_cell_iterators())
+      for (const unsigned f : cell->face_indices())
+        if (cell->at_boundary(f) && on_interface(cell->face(f)->boundary_id()))
+          for (const unsigned v : cell->face(f)->vertex_indices())
+            solid_node[key(cell->face(f)->vertex(v))] = cell->face(f)->vertex_dof_index(v, 0);
+    std::set<GlobalIndex> removed_mesh;
+    for (const auto& cell : fluid_dofs_.active_cell_iterators())
+      {
+        const DoFHandler<dim>::active_cell_iterator mesh_cell(&fluid_tria_, cell->level(), cell->index(),
+                                                              &mesh_dofs_);
+        for (const unsigned f : cell->face_indices())
+          if (cell->at_boundary(f))
+            {
+              const auto id = cell->face(f)->boundary_id();
+              for (const unsigned v : cell->face(f)->vertex_indices())
+                if (on_interface(id))
+                  {
+                    const auto it = solid_node.find(key(cell->face(f)->vertex(v)));
+                    if (it == solid_node.end())
+                      throw std::invalid_argument("Geometry: a fluid interface node at " +
+                                                  Utilities::to_string(cell->face(f)->vertex(v)[0]) +
+                                                  " has no structure node (the interface meshes must match)");
+                    for (unsigned c = 0; c < dim; ++c)
+                      {
+                        fluid_partner_[cell->face(f)->vertex_dof_index(v, c)]     = it->second + c;
+                        mesh_partner_[mesh_cell->face(f)->vertex_dof_index(v, c)] = it->second + c;
+                        removed_mesh.insert(mesh_cell->face(f)->vertex_dof_index(v, c));
+                      }
+                  }
+                else
+                  for (unsigned c = 0; c < dim; ++c) // ALE fixed on the inlet/outlet planes
+                    mesh_fixed_.insert(mesh_cell->face(f)->vertex_dof_index(v, c));
+            }
+      }
+    for (const auto& [f, s] : fluid_partner_)
+      interface_velocities_.push_back(f);
+    removed_mesh_.assign(removed_mesh.begin(), removed_mesh.end());
+    for (const auto m : removed_mesh_)
+      mesh_fixed_.erase(m);
+    n_solid_ = solid_dofs_.n_dofs();
+    n_fluid_ = fluid_dofs_.n_dofs() - interface_velocities_.size();
+    n_mesh_  = mesh_dofs_.n_dofs() - removed_mesh_.size();
+    for (const auto f : fluid_owned_)
+      if (!is_interface_velocity(f))
+        fluid_inner_owned_.push_back(f);
+    for (const auto m : mesh_owned_)
+      if (mesh_partner_.count(m) == 0)
+        mesh_inner_owned_.push_back(m);
+  }
+
+  std::pair<int, GlobalIndex> CondensedFsi::field_dof(GO g) const
+  {
+    // Owned rows are contiguous per field and rank, in the fields' own order.
+    if (g < n_solid_)
+      return {0, static_cast<GlobalIndex>(g)};
+    if (g < n_solid_ + n_fluid_)
+      return {1, fluid_inner_owned_.at(g - fluid_gid(fluid_inner_owned_.front()))};
+    return {2, mesh_inner_owned_.at(g - mesh_gid(mesh_inner_owned_.front()))};
+  }
+
+  GO CondensedFsi::fluid_gid(GlobalIndex f) const
+  {
+    const auto before = std::lower_bound(interface_velocities_.begin(), interface_velocities_.end(), f) -
+                        interface_velocities_.begin();
+    return n_solid_ + static_cast<GO>(f) - before;
+  }
+
+  GO CondensedFsi::mesh_gid(GlobalIndex m) const
+  {
+    const auto before =
+        std::lower_bound(removed_mesh_.begin(), removed_mesh_.end(), m) - removed_mesh_.begin();
+    return n_solid_ + n_fluid_ + static_cast<GO>(m) - before;
+  }
+
+  void CondensedFsi::sync_interface()
+  {
+    // v^S_{n+1} from the Newmark relations with a_{n+1} eliminated:
+    //   v = gamma/(beta dt) (d - d_n) + (1 - gamma/beta) v_n + dt (1 - gamma/(2 beta)) a_n.
+    const auto&                   s   = dynamics_->scheme();
+    const double                  tau = s.gamma() / (s.beta() * s.time_step());
+    TrilinosWrappers::MPI::Vector v(d_S_);
+    v.add(-1.0, d_S_old_);
+    v *= tau;
+    v.add(1.0 - s.gamma() / s.beta(), dynamics_->velocity(),
+          s.time_step() * (1.0 - s.gamma() / (2.0 * s.beta())), dynamics_->acceleration());
+    v_S_ghosted_ = v;
+    d_S_ghosted_ = d_S_;
+    for (const auto& [f, sd] : fluid_partner_)
+      if (fluid_owned_.is_element(f))
+        x_F_[f] = v_S_ghosted_[sd];
+    for (const auto& [m, sd] : mesh_partner_)
+      if (mesh_owned_.is_element(m))
+        d_G_[m] = d_S_ghosted_[sd];
+    x_F_.compress(VectorOperation::insert);
+    d_G_.compress(VectorOperation::insert);
+    x_F_ghosted_ = x_F_;
+    d_G_ghosted_ = d_G_;
+  }
+
+  void CondensedFsi::assemble_fluid(TrilinosWrappers::MPI::Vector& R, TrilinosWrappers::SparseMatrix* K,
+                                    TrilinosWrappers::SparseMatrix* S)
+  {
+    TrilinosWrappers::MPI::Vector old(fluid_owned_, fluid_relevant_, comm_),
+        mesh_old(mesh_owned_, mesh_relevant_, comm_), mesh_older(mesh_owned_, mesh_relevant_, comm_);
+    old        = x_F_old_;
+    mesh_old   = d_G_old_;
+    mesh_older = d_G_older_;
+    FluidState<dim> state{&x_F_ghosted_, &old, &old, &d_G_ghosted_, &mesh_old, &mesh_older};
+    R.reinit(fluid_owned_, comm_);
+    if (K != nullptr)
+      *K = 0;
+    if (S != nullptr)
+      *S = 0;
+    assemble_ale_fluid<dim>(fluid_dofs_, &mesh_dofs_, fluid_model_, state, fluid_constraints_, R, K, S,
+                            &mesh_free_);
+  }
+
+  multigrid::BlockSystem CondensedFsi::assemble(std::vector<double>& norms)
+  {
+    const double w   = dynamics_->scheme().force_weight(); // 1 - af
+    const double af  = 1.0 - w;
+    const auto&  s   = dynamics_->scheme();
+    const double tau = s.gamma() / (s.beta() * s.time_step());
+
+    // Structure: w r(d) + c_m M d + h_n, its Jacobian w K + c_m M.
+    TrilinosWrappers::MPI::Vector r_S(solid_owned_, comm_), R_F, R_G(mesh_owned_, comm_);
+    K_S_ = 0;
+    {
+      TrilinosWrappers::MPI::Vector ghosted(solid_owned_, solid_relevant_, comm_);
+      ghosted = d_S_;
+      assemble_solid(solid_dofs_, solid_model_, ghosted, solid_constraints_, r_S, &K_S_,
+                     dynamics_->weights());
+      r_S += dynamics_->history();
+    }
+    assemble_fluid(R_F, &K_F_, p_.shape_derivatives ? &S_F_ : nullptr);
+    mesh_motion_->stiffness().vmult(R_G, d_G_); // the ALE residual K_G d^G
+
+    // Rows of the merged system: (row gid) -> (column gid -> value), and the right-hand sides.
+    RowPieces                     rows;
+    std::map<GlobalIndex, double> rhs;
+    auto                          solid_free = [&](GlobalIndex sd) { return solid_clamped_.count(sd) == 0; };
+    for (const auto sd : solid_owned_)
+      {
+        std::map<GO, double> entries;
+        add_row(
+            K_S_, sd, [](GlobalIndex c) { return static_cast<GO>(c); }, entries);
+        auto& row = rows[sd];
+        for (const auto& [c, v] : entries)
+          if (solid_free(c) || c == static_cast<GO>(sd))
+            row[c] += v;
+        rhs[sd] -= r_S[sd];
+        if (const auto it = lambda_old_.find(sd); it != lambda_old_.end() && solid_free(sd))
+          rhs[sd] -= af * it->second; // af lambda_n
+      }
+    // Fluid rows: the interface velocity rows go to the matching structure rows, weighted
+    // with 1 - af; interface velocity columns become structure columns times tau, interface
+    // ALE columns structure columns, fixed ALE columns are dropped.
+    for (const auto f : fluid_owned_)
+      {
+        double scale  = 1.0;
+        GO     target = 0;
+        if (is_interface_velocity(f))
+          {
+            const GlobalIndex sd = fluid_partner_.at(f);
+            if (!solid_free(sd))
+              continue;
+            target = sd;
+            scale  = w;
+          }
+        else
+          target = fluid_gid(f);
+        auto&                row = rows[target];
+        std::map<GO, double> entries;
+        add_row(
+            K_F_, f, [](GlobalIndex c) { return static_cast<GO>(c); }, entries);
+        for (const auto& [c, v] : entries)
+          if (const auto it = fluid_partner_.find(c); it != fluid_partner_.end())
+            {
+              if (solid_free(it->second))
+                row[it->second] += scale * tau * v;
+            }
+          else
+            row[fluid_gid(c)] += scale * v;
+        if (p_.shape_derivatives)
+          {
+            entries.clear();
+            add_row(
+                S_F_, f, [](GlobalIndex c) { return static_cast<GO>(c); }, entries);
+            for (const auto& [c, v] : entries)
+              if (const auto it = mesh_partner_.find(c); it != mesh_partner_.end())
+                {
+                  if (solid_free(it->second))
+                    row[it->second] += scale * v;
+                }
+              else if (mesh_fixed_.count(c) == 0)
+                row[mesh_gid(c)] += scale * v;
+          }
+        rhs[target] -= scale * R_F[f];
+      }
+    // ALE rows (inner DOFs): fixed planes d^G = 0, elsewhere K_G with the interface columns
+    // moved to the structure.
+    for (const auto m : mesh_owned_)
+      {
+        if (mesh_partner_.count(m) > 0)
+          continue;
+        const GO g   = mesh_gid(m);
+        auto&    row = rows[g];
+        if (mesh_fixed_.count(m) > 0)
+          {
+            row[g] = 1.0;
+            rhs[g] = 0.0;
+            continue;
+          }
+        std::map<GO, double> entries;
+        add_row(
+            mesh_motion_->stiffness(), m, [](GlobalIndex c) { return static_cast<GO>(c); }, entries);
+        for (const auto& [c, v] : entries)
+          if (const auto it = mesh_partner_.find(c); it != mesh_partner_.end())
+            {
+              if (solid_free(it->second))
+                row[it->second] += v;
+            }
+          else if (mesh_fixed_.count(c) == 0)
+            row[mesh_gid(c)] += v;
+        rhs[g] -= R_G[m];
+      }
+    // Interface rows computed by a fluid rank go to the structure DOF's owner.
+    const auto owner = [&](GlobalIndex g) {
+      return g < static_cast<GlobalIndex>(n_solid_) ? owning_rank(solid_owned_per_rank_, g) : rank_;
+    };
+    rows = send_rows_to_owners(rows, owner, comm_);
+    rhs  = send_entries_to_owners(rhs, owner, comm_);
+
+    // Owned rows in ascending order: structure, fluid inner, ALE inner (contiguous per rank).
+    std::vector<std::vector<GO>>      block_gids(3);
+    std::vector<GO>                   gids;
+    std::vector<std::map<GO, double>> row_list;
+    for (const auto& [g, entries] : rows)
+      {
+        const GO gid = static_cast<GO>(g);
+        block_gids[gid < n_solid_ ? 0 : gid < n_solid_ + n_fluid_ ? 1 : 2].push_back(gid);
+        gids.push_back(gid);
+        row_list.emplace_back(entries.begin(), entries.end());
+      }
+    auto A = matrix_from_rows(comm_, n_solid_ + n_fluid_ + n_mesh_, gids, row_list);
+    auto b = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(A->getRowMap(), 1, true);
+    {
+      auto data = b->getDataNonConst(0);
+      for (std::size_t i = 0; i < gids.size(); ++i)
+        data[i] = rhs.count(gids[i]) > 0 ? rhs.at(gids[i]) : 0.0;
+    }
+    std::vector<multigrid::BlockInfo> blocks(3);
+    blocks[0]   = {"structure", dim, n_solid_, 0, {}, {}, {}};
+    blocks[1]   = {"fluid", 1, n_fluid_, 0, {}, {}, {}}; // interface nodes keep only their pressure
+    blocks[2]   = {"ale", dim, n_mesh_, 0, {}, {}, {}};
+    auto system = multigrid::BlockSystem::from_merged(teuchos_comm(comm_), blocks, block_gids, A, b);
+    // Near-nullspaces: the structure's rigid-body modes, the ALE block's translations (the
+    // fluid block's constants are the BlockSystem's default).
+    system.block(0).nullspace = multigrid::rigid_body_modes(system.block(0).map, dim, solid_coordinates_);
+    system.block(2).nullspace = multigrid::translation_modes(system.block(2).map, dim);
+    norms                     = system.block_norms(*system.rhs());
+    return system;
+  }
+
+} // namespace physics::fsi

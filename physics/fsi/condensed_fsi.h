@@ -1,0 +1,80 @@
+// Condensed (monolithic) fluid/solid interaction on matching interface meshes, the seeds'
+// structure-split formulation (FSI.md): the structure (Saint Venant-Kirchhoff, generalized-alpha
+// from the common layer), the ALE fluid (ale_fluid.h) and the pseudo-elastic mesh
+// (ale_mesh_motion.h) in one Newton iteration, the interface traction eliminated:
+//
+//   kinematic:  u^F_Gamma = v^S_Gamma(d^S_{n+1}) = tau (d^S_Gamma - d^S_n) + (1 - gamma/beta) v_n
+//                             + dt (1 - gamma/(2 beta)) a_n,           tau = gamma / (beta dt),
+//   geometric:  d^G_Gamma = d^S_Gamma,
+//   dynamic:    the fluid's interface rows R^F_Gamma (the traction lambda the structure exerts on
+//               the fluid, at t_{n+1}: the fluid residual is BDF) act on the structure as -lambda;
+//               generalized-alpha evaluates forces at t_{n+1-af}, so the structure interface rows
+//               become  R^S_Gamma + (1 - af) R^F_Gamma + af lambda_n   (the seeds' (1-a)/(1-b), b = 0).
+//
+// Unknowns (the seeds' layout): d^S (inner and interface), the fluid DOFs without the interface
+// velocities (u_I, p), and the inner ALE DOFs d^G_I. The Newton system
+//   [ S_II  S_IG                                    0            0        ] [dd^S_I]
+//   [ S_GI  S_GG + (1-af)(tau F_GG + F^G_GG)        (1-af) F_GI  (1-af) F^G_GI ] [dd^S_G]
+//   [ 0     tau F_IG + F^G_IG                       F_II         F^G_II   ] [du^F_I]  = -r
+//   [ 0     A_IG                                    0            A_II     ] [dd^G_I]
+// is handed over as a BlockSystem of three blocks (structure, fluid, ALE); the fluid block
+// lists the interface nodes' pressures only, so its DOFs are not node-complete (1 DOF per node
+// in the block description). F^G, the shape derivatives, can be dropped (a parameter).
+//
+// The MPI layout: every field keeps deal.II's distribution of its own mesh; the fluid interface
+// rows are sent to the owner of the matching structure DOF (common/row_exchange.h), and the
+// structure values the fluid and the ALE interface need are ghosts of the structure vectors.
+#pragma once
+
+#include "common/solver_parameters.h"
+#include "common/step_driver.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace physics::fsi
+{
+  /// The 2D channel between two elastic walls (apps/fsi_channel_2d.prm): fluid in
+  /// [0, L] x [0, H], walls [0, L] x [-t, 0] and [0, L] x [H, H + t] clamped at x = 0 and x = L,
+  /// a pressure pulse on the inlet x = 0, the outlet x = L traction-free.
+  struct FsiParameters
+  {
+    // Geometry and mesh (matching nodes on the interface)
+    double length = 6.0, height = 1.0, wall_thickness = 0.1; // cm
+    int    cells_x = 30, cells_fluid_y = 6, cells_wall_y = 1;
+    // Fluid
+    double fluid_density = 1.0, fluid_viscosity = 0.03; // g/cm^3, P (CGS)
+    // Structure (Saint Venant-Kirchhoff)
+    double youngs_modulus = 3e6, poisson_ratio = 0.3, solid_density = 1.2; // dyn/cm^2, g/cm^3
+    double spectral_radius = 1.0;
+    // ALE mesh
+    double ale_poisson_ratio = 0.3, ale_stiffening = 1.0;
+    // Load and time
+    double inlet_pressure = 1.3332e4, pulse_duration = 3e-3, time_step = 1e-4, end_time = 1e-3;
+    bool   shape_derivatives = true;
+    bool   check_jacobian    = false; ///< testing: J v against central differences in step 2
+    // Newton and linear solver
+    SolverParameters solver{1e-6, 1e-10, 15, "direct(superlu)", {}, 1e-8, 500, 200};
+    // Output
+    std::string output_directory = "output/fsi";
+    bool        vtk = true, export_systems = false;
+
+    static std::vector<std::string> residual_fields() { return {"structure", "fluid", "ale"}; }
+    static void                     declare(dealii::ParameterHandler& prm);
+    /// Reads and checks every value; throws std::invalid_argument "parameter 'X' (Section): ...".
+    void parse(dealii::ParameterHandler& prm);
+  };
+
+  struct FsiRunSummary : RunSummary
+  {
+    long long structure_dofs = 0, fluid_dofs = 0, ale_dofs = 0; ///< blocks of the Newton system
+    /// Per converged step: the largest wall displacement (normal to the wall).
+    std::vector<double> max_wall_displacement;
+  };
+
+  FsiRunSummary run_condensed_fsi(const FsiParameters& parameters, MPI_Comm comm);
+} // namespace physics::fsi

@@ -1,0 +1,124 @@
+// The condensed FSI problem class behind run_condensed_fsi (condensed_fsi.h explains the
+// formulation): its set-up, interface maps and Newton system in condensed_fsi.cc, its time
+// steps, Newton updates, Jacobian check and output in condensed_fsi_steps.cc.
+#pragma once
+
+#include "common/newton_solver.h"
+#include "common/row_exchange.h"
+#include "common/run_output.h"
+#include "common/solid_dynamics.h"
+#include "common/solid_mechanics.h"
+#include "common/step_driver.h"
+#include "common/vtk_output.h"
+#include "fsi/ale_fluid.h"
+#include "fsi/ale_mesh_motion.h"
+#include "fsi/condensed_fsi.h"
+
+#include "block_system.h"
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace physics::fsi
+{
+  class CondensedFsi : public SteppedProblem
+  {
+  public:
+    static constexpr int dim = 2;
+    // Boundary ids: fluid (colorized box) 0 inlet, 1 outlet, 2 bottom wall, 3 top wall; the
+    // structure's interface faces get 2 and 3 as well, its clamped ends 0 and 1, its outer faces 4.
+    static constexpr dealii::types::boundary_id inlet = 0, outlet = 1, bottom = 2, top = 3, outer = 4;
+    static bool on_interface(dealii::types::boundary_id id) { return id == bottom || id == top; }
+
+    CondensedFsi(const FsiParameters& p, MPI_Comm comm);
+    FsiRunSummary run();
+
+    // The nonlinear problem of one time step (common/newton_solver.h, step_driver.h).
+    std::vector<std::string> field_names() const override { return FsiParameters::residual_fields(); }
+    Linearization            linearize(int iteration) override;
+    void                     update(const multigrid::MultiVector& dx) override;
+    void                     set_update_length(double step_length) override;
+    void                     begin_step(double time, double step) override;
+    void                     reset_step() override;
+    void                     end_step(int number, double time) override;
+    void                     write_output(int number, double time, bool last) override;
+
+  private:
+    void make_meshes();
+    void setup_fields();
+    /// The interface maps: fluid velocity DOF -> structure DOF, ALE DOF -> structure DOF, and
+    /// the numbering of the merged system (structure, fluid without the interface velocities,
+    /// inner ALE DOFs).
+    void match_interface();
+    /// The fluid interface velocities and ALE interface displacements from the structure.
+    void sync_interface();
+    /// R^F (and its Jacobian and shape derivative) at the current state.
+    void assemble_fluid(dealii::TrilinosWrappers::MPI::Vector& R, dealii::TrilinosWrappers::SparseMatrix* K,
+                        dealii::TrilinosWrappers::SparseMatrix* S);
+    multigrid::BlockSystem assemble(std::vector<double>& norms);
+    /// Testing: the Newton matrix times a direction v against central differences of the
+    /// residual along v (relative error per field, logged and printed).
+    void check_jacobian();
+    /// Field (0 structure, 1 fluid, 2 ALE) and field DOF of an owned row of the merged system.
+    std::pair<int, GlobalIndex> field_dof(multigrid::GO g) const;
+    multigrid::GO               fluid_gid(GlobalIndex f) const;
+    multigrid::GO               mesh_gid(GlobalIndex m) const;
+    bool is_interface_velocity(GlobalIndex f) const { return fluid_partner_.count(f) > 0; }
+
+    const FsiParameters&       p_;
+    MPI_Comm                   comm_;
+    const unsigned int         rank_;
+    dealii::ConditionalOStream pcout_;
+    dealii::TimerOutput        timer_;
+
+    dealii::parallel::shared::Triangulation<dim> fluid_tria_, solid_tria_;
+    dealii::FESystem<dim>                        fluid_fe_, vector_fe_;
+    dealii::DoFHandler<dim>                      fluid_dofs_, mesh_dofs_, solid_dofs_;
+    dealii::IndexSet fluid_owned_, fluid_relevant_, mesh_owned_, mesh_relevant_, solid_owned_,
+        solid_relevant_, solid_ghosts_;
+    std::vector<dealii::IndexSet>          solid_owned_per_rank_;
+    dealii::AffineConstraints<double>      fluid_constraints_, solid_constraints_, mesh_free_;
+    dealii::TrilinosWrappers::SparseMatrix K_F_, S_F_, K_S_;
+    SolidModel<dim>                        solid_model_;
+    std::unique_ptr<SolidDynamics<dim>>    dynamics_;
+    std::unique_ptr<AleMeshMotion<dim>>    mesh_motion_;
+    FluidModel<dim>                        fluid_model_;
+
+    std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_; ///< interface DOF -> structure DOF
+    std::vector<GlobalIndex>           interface_velocities_, removed_mesh_; ///< sorted
+    /// Clamped structure DOFs, all of them on every rank (a fluid rank meets them as partners of
+    /// its interface DOFs even where the structure's constraints do not store them).
+    std::set<GlobalIndex>    solid_clamped_;
+    std::vector<double>      solid_coordinates_; ///< owned structure nodes, node-major (rigid-body modes)
+    std::set<GlobalIndex>    mesh_fixed_;        ///< ALE DOFs on the inlet/outlet planes
+    std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
+    multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
+
+    // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies
+    dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_ghosted_, v_S_ghosted_;
+    dealii::TrilinosWrappers::MPI::Vector x_F_, x_F_old_, x_F_older_, x_F_ghosted_;
+    dealii::TrilinosWrappers::MPI::Vector d_G_, d_G_old_, d_G_older_, d_G_ghosted_;
+    std::map<GlobalIndex, double>         lambda_old_; ///< lambda_n on the owned structure interface DOFs
+    // The step in progress and the Newton direction (line search)
+    dealii::TrilinosWrappers::MPI::Vector d_S_begin_, x_F_begin_, d_G_begin_, dd_S_, dx_F_, dd_G_;
+    double                                update_length_ = 1;
+    int                                   steps_done_    = 0;
+    multigrid::BlockSystem                system_;
+    JsonLinesLog                          log_;
+    std::unique_ptr<VtkSeries>            fluid_vtk_, solid_vtk_;
+    std::vector<double>                   max_wall_displacement_;
+  };
+} // namespace physics::fsi

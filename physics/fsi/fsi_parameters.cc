@@ -1,0 +1,141 @@
+// The fsi app's parameter file: declarations (shown by --help / --print-parameters) and range
+// checks with one-line errors naming the parameter.
+#include "common/parameter_checks.h"
+#include "fsi/ale_mesh_motion.h"
+#include "fsi/condensed_fsi.h"
+
+namespace physics::fsi
+{
+  using dealii::Patterns::Anything;
+  using dealii::Patterns::Bool;
+  using dealii::Patterns::Double;
+  using dealii::Patterns::Integer;
+  using parameters::positive;
+
+  void FsiParameters::declare(dealii::ParameterHandler& prm)
+  {
+    const FsiParameters d;
+    prm.enter_subsection("Geometry");
+    prm.declare_entry("Length", std::to_string(d.length), Double(), "Channel length L (> 0; CGS: cm).");
+    prm.declare_entry("Height", std::to_string(d.height), Double(),
+                      "Channel height H between the walls (> 0).");
+    prm.declare_entry("Wall thickness", std::to_string(d.wall_thickness), Double(),
+                      "Thickness of each wall (> 0).");
+    prm.declare_entry("Cells in x", std::to_string(d.cells_x), Integer(1, 100000),
+                      "Cells along the channel (fluid and walls: the interface nodes match).");
+    prm.declare_entry("Fluid cells in y", std::to_string(d.cells_fluid_y), Integer(1, 100000),
+                      "Fluid cells across H.");
+    prm.declare_entry("Wall cells in y", std::to_string(d.cells_wall_y), Integer(1, 100000),
+                      "Structure cells across each wall.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fluid");
+    prm.declare_entry("Density", "1", Double(), "rho_F (> 0; CGS: g/cm^3).");
+    prm.declare_entry("Viscosity", "0.03", Double(), "Dynamic viscosity mu_F (> 0; CGS: P).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Structure");
+    prm.declare_entry("Young's modulus", "3e6", Double(),
+                      "E_S (> 0; CGS: dyn/cm^2, 3e6 = 3e5 Pa), Saint Venant-Kirchhoff.");
+    prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu_S (-1 < nu < 0.5).");
+    prm.declare_entry("Density", "1.2", Double(), "rho_S (> 0; CGS: g/cm^3).");
+    prm.declare_entry("Spectral radius", "1", Double(0, 1),
+                      "rho_inf of generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("ALE mesh");
+    prm.declare_entry("Poisson ratio", "0.3", Double(),
+                      "Of the pseudo-elastic mesh material (0 <= nu < 0.5).");
+    prm.declare_entry("Stiffening exponent", "1", Double(),
+                      "chi >= 0: cell stiffness (mean |K| / |K|)^chi, small cells move more rigidly.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    prm.declare_entry("Inlet pressure", "1.3332e4", Double(),
+                      "Pressure on the inlet x = 0 during the pulse (CGS: dyn/cm^2).");
+    prm.declare_entry("Pulse duration", "3e-3", Double(),
+                      "The inlet pressure acts for 0 < t <= this, then 0 (>= 0; s).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time");
+    prm.declare_entry("Time step", "1e-4", Double(), "dt (> 0; s). Fluid BDF1, structure generalized-alpha.");
+    prm.declare_entry("End time", "1e-3", Double(), "Final time (> 0; s).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Coupling");
+    prm.declare_entry("Shape derivatives", "true", Bool(),
+                      "Include the fluid's derivatives with respect to the mesh displacement in the Jacobian "
+                      "(false: Newton converges more slowly).");
+    prm.declare_entry(
+        "Check Jacobian", "false", Bool(),
+        "Testing: at the start of time step 2, compare the Newton matrix times a direction with "
+        "central differences of the residual; prints and logs the relative error per field.");
+    prm.leave_subsection();
+
+    d.solver.declare(prm, residual_fields());
+
+    prm.enter_subsection("Output");
+    prm.declare_entry("Directory", d.output_directory, Anything(),
+                      "Run log (run_log.jsonl), VTK (fluid.pvd, structure.pvd), exported systems.");
+    prm.declare_entry("VTK", "true", Bool(), "Write the fluid and the structure (pvtu) per time step.");
+    prm.declare_entry("Export systems", "false", Bool(),
+                      "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN.");
+    prm.leave_subsection();
+  }
+
+  void FsiParameters::parse(dealii::ParameterHandler& prm)
+  {
+    prm.enter_subsection("Geometry");
+    length         = positive(prm.get_double("Length"), "Length (Geometry)");
+    height         = positive(prm.get_double("Height"), "Height (Geometry)");
+    wall_thickness = positive(prm.get_double("Wall thickness"), "Wall thickness (Geometry)");
+    cells_x        = prm.get_integer("Cells in x");
+    cells_fluid_y  = prm.get_integer("Fluid cells in y");
+    cells_wall_y   = prm.get_integer("Wall cells in y");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fluid");
+    fluid_density   = positive(prm.get_double("Density"), "Density (Fluid)");
+    fluid_viscosity = positive(prm.get_double("Viscosity"), "Viscosity (Fluid)");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Structure");
+    youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Structure)");
+    poisson_ratio =
+        parameters::poisson_ratio(prm.get_double("Poisson's ratio"), "Poisson's ratio (Structure)");
+    solid_density   = positive(prm.get_double("Density"), "Density (Structure)");
+    spectral_radius = prm.get_double("Spectral radius");
+    prm.leave_subsection();
+
+    prm.enter_subsection("ALE mesh");
+    ale_poisson_ratio = prm.get_double("Poisson ratio");
+    ale_stiffening    = prm.get_double("Stiffening exponent");
+    MeshMotionSettings{ale_poisson_ratio, ale_stiffening}.check();
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    inlet_pressure = prm.get_double("Inlet pressure");
+    pulse_duration = prm.get_double("Pulse duration");
+    if (!(pulse_duration >= 0))
+      throw std::invalid_argument("parameter 'Pulse duration' (Loading): expected a value >= 0");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time");
+    time_step = positive(prm.get_double("Time step"), "Time step (Time)");
+    end_time  = positive(prm.get_double("End time"), "End time (Time)");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Coupling");
+    shape_derivatives = prm.get_bool("Shape derivatives");
+    check_jacobian    = prm.get_bool("Check Jacobian");
+    prm.leave_subsection();
+
+    solver.parse(prm, residual_fields());
+
+    prm.enter_subsection("Output");
+    output_directory = prm.get("Directory");
+    vtk              = prm.get_bool("VTK");
+    export_systems   = prm.get_bool("Export systems");
+    prm.leave_subsection();
+  }
+} // namespace physics::fsi
