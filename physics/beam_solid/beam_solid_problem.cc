@@ -224,7 +224,8 @@ namespace physics::beam_solid
         log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
       solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solid", comm_);
       beam_pvd_  = std::make_unique<PvdSeries>(p_.output_directory + "/beams.pvd");
-      pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells, " << dof_handler_.n_dofs()
+      pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells (at most "
+             << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), " << dof_handler_.n_dofs()
              << " solid DOFs, beams with " << beam_.elements.size()
              << " elements, " << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
              << p_.coupling << ", " << coupling_seconds << " s), " << n_ranks_ << " ranks, preset "

@@ -50,7 +50,8 @@ namespace physics::contact
   struct OwnedNode
   {
     std::array<GlobalIndex, dim> dofs;
-    std::array<double, dim>      position; ///< current coordinates (rigid-body modes)
+    std::array<double, dim>      reference{}; ///< reference coordinates
+    std::array<double, dim>      position{};  ///< current coordinates (the rigid-body modes' centre)
     bool                         slave_body  = false;
     int                          slave_index = -1; ///< index among the slave surface nodes, or -1
     bool                         master_surface = false;

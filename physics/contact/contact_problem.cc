@@ -239,7 +239,10 @@ namespace physics::contact
               }
             OwnedNode<dim> node;
             for (unsigned int d = 0; d < dim; ++d)
-              node.dofs[d] = cell->vertex_dof_index(v, d);
+              {
+                node.dofs[d]      = cell->vertex_dof_index(v, d);
+                node.reference[d] = cell->vertex(v)[d];
+              }
             node.slave_body     = slave_body;
             node.master_surface = master_dofs.count(dof0) > 0;
             if (const auto s = slave_of_dof.find(dof0); s != slave_of_dof.end())
@@ -283,7 +286,8 @@ namespace physics::contact
       if (rank_ == 0)
         log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
       vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solution", comm_);
-      pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells, "
+      pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells (at most "
+             << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), "
              << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_slave_nodes()
              << " multipliers (" << (p_.dual ? "dual" : "standard") << "), " << Utilities::MPI::n_mpi_processes(comm_)
              << " ranks, preset " << p_.solver.preset;
@@ -475,6 +479,10 @@ namespace physics::contact
       for (const auto& [row, value] : contribution.constraint_residual)
         pieces[row] += value;
       pieces  = send_entries_to_owners(pieces, owner, comm_);
+      // The near-nullspace's rotations turn about the current positions of the nodes.
+      for (auto& node : owned_nodes_)
+        for (unsigned int d = 0; d < dim; ++d)
+          node.position[d] = node.reference[d] + u_ghosted_[node.dofs[d]];
       linear_ = build_contact_system<dim>(comm_, owned_nodes_, *contact_, owned_, ghosts_, K, residual, rows, pieces);
 
       Linearization result;
