@@ -12,7 +12,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libdeal.ii-dev trilinos-all-dev libopenmpi-dev openmpi-bin libmetis-dev
   libsuperlu-dev libsuperlu-dist-dev gmsh libgmsh-dev
-  libgtest-dev python3-numpy python3-scipy
+  libgtest-dev python3-numpy python3-scipy python3-petsc4py
 )
 missing=()
 for p in "${packages[@]}"; do
