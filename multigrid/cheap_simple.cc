@@ -46,7 +46,10 @@ namespace multigrid
       throw InputError("CheapSIMPLE: sweeps must be >= 1 and damping > 0 (got " + std::to_string(sweeps_) +
                        ", " + std::to_string(damping_) + ")");
     // Â's type is checked by approximate_inverse().
-    const auto        inverse         = inverse_approximation_options(p, "inverse approximation", "diagonal");
+    const auto inverse = inverse_approximation_options(p, "inverse approximation", "diagonal");
+    // The final update's Â: the Schur complement's unless chosen apart (SIMPLE's diag(A)^-1 with
+    // a lumped S, e.g.); the same type is computed once.
+    const auto update = inverse_approximation_options(p, "update inverse approximation", inverse.type);
     const std::string predictor       = choice(p, "predictor", "amg", {"amg", "approximate inverse"});
     const std::string schur_nullspace = choice(p, "schur nullspace", "none", {"none", "block"});
 
@@ -56,6 +59,7 @@ namespace multigrid
     B2_                = blocked->getMatrix(1, 0);
     RCP<Matrix> C      = blocked->getMatrix(1, 1);
     A_inverse_         = approximate_inverse(*A_, inverse);
+    update_inverse_    = update.type == inverse.type ? A_inverse_ : approximate_inverse(*A_, update);
 
     // S = C - B2 Â B1^T, formed explicitly (sparse: Â is diagonal or a SPAI on a fixed pattern).
     auto        out     = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
@@ -123,7 +127,7 @@ namespace multigrid
         // 4. damped update of the second block and its consequence for the first
         dx2->scale(damping_);
         B1t_->apply(*dx2, *tmp1);
-        A_inverse_->apply(*tmp1, *tmp2);
+        update_inverse_->apply(*tmp1, *tmp2);
         dx1->update(-1.0 / damping_, *tmp2, 1.0);
         // 5. increment
         auto xx1 = ext.ExtractVector(x, 0);

@@ -6,11 +6,13 @@
 //   1. r = b - K x
 //   2. prediction                       dx1~ = P(r1)          (inner AMG on A, or Â r1)
 //   3. approximate Schur complement     S dx2~ = r2 - B2 dx1~,  S = C - B2 Â B1^T  (inner solver)
-//   4. update                           dx2 = w dx2~,  dx1 = dx1~ - (1/w) Â B1^T dx2
+//   4. update                           dx2 = w dx2~,  dx1 = dx1~ - (1/w) Â_u B1^T dx2
 //   5. x <- x + dx
-// Â ("inverse approximation"): diag(A)^-1 (seed 000's CheapSIMPLE), the row-sum lumped inverse
-// (CheapSIMPLEC), or the sparse approximate inverse min ||A Â - I||_F over the pattern of A^k
-// (seed 001's beam block, multigrid/inverse_approximation.h). With the SPAI the predictor may be
+// Â ("inverse approximation", in S): diag(A)^-1 (seed 000's CheapSIMPLE), the absolute-row-sum
+// lumped inverse (CheapSIMPLEC), the signed row sum, or the sparse approximate inverse
+// min ||A Â - I||_F over the pattern of A^k (seed 001's beam block,
+// multigrid/inverse_approximation.h). Â_u ("update inverse approximation", in the final update)
+// is Â unless chosen apart, e.g. SIMPLE's diag(A)^-1 with a lumped S. With the SPAI the predictor may be
 // the SPAI smoother itself (dx1~ = Â r1, one sweep from zero) and S lives on the second block's
 // DOFs (the solid of beam/solid): its inner AMG then gets that block's near-nullspace.
 // With Â = A^-1, exact inner solves and w = 1, one sweep is the exact block LU solve.
@@ -36,8 +38,10 @@ namespace multigrid
   class CheapSimpleOperator : public Xpetra::Operator<SC, LO, GO, NO>
   {
   public:
-    /// `parameters`: sweeps, damping, "inverse approximation" (diagonal | lumping | spai, with
-    /// "spai: pattern power" and "spai: drop tolerance"), predictor (amg | approximate inverse),
+    /// `parameters`: sweeps, damping, "inverse approximation" (diagonal | row-sum |
+    /// absolute-row-sum (lumping) | spai, with "spai: pattern power" and "spai: drop tolerance"),
+    /// "update inverse approximation" (the same choices; default: "inverse approximation"),
+    /// predictor (amg | approximate inverse),
     /// "schur nullspace" (none | block), sublists "primal solver" (predictor amg) and
     /// "schur solver" (MueLu parameter lists).
     CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& parameters);
@@ -61,7 +65,8 @@ namespace multigrid
     int                                   sweeps_  = 1;
     double                                damping_ = 1.0;
     RCP<Matrix>                           A_, B1t_, B2_, S_;
-    RCP<Matrix>                           A_inverse_; ///< Â
+    RCP<Matrix>                           A_inverse_;      ///< Â in S
+    RCP<Matrix>                           update_inverse_; ///< Â_u in the final update
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> primal_;    ///< null with the approximate-inverse predictor
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> schur_;
   };

@@ -44,8 +44,9 @@ namespace multigrid
       return transposer.createTranspose();
     }
 
-    /// diag(A)^-1 or the row-sum lumped inverse.
-    RCP<TpetraMatrix> diagonal_inverse(const TpetraMatrix& A, bool lumped)
+    /// diag(A)^-1 or one of the lumped inverses (see the header): `type` is diagonal, row-sum or
+    /// absolute-row-sum.
+    RCP<TpetraMatrix> diagonal_inverse(const TpetraMatrix& A, const std::string& type)
     {
       auto               D = rcp(new TpetraMatrix(A.getRowMap(), 1));
       std::vector<GO>    cols;
@@ -54,17 +55,25 @@ namespace multigrid
         {
           const GO row = A.getRowMap()->getGlobalElement(i);
           global_row(A, i, cols, vals);
-          double diagonal = 0, row_sum = 0;
+          double diagonal = 0, row_sum = 0, absolute_row_sum = 0;
           for (std::size_t k = 0; k < cols.size(); ++k)
             {
               if (cols[k] == row)
                 diagonal = vals[k];
-              row_sum += std::abs(vals[k]);
+              row_sum += vals[k];
+              absolute_row_sum += std::abs(vals[k]);
             }
-          if (diagonal == 0)
-            throw InputError("inverse approximation '" + std::string(lumped ? "lumping" : "diagonal") +
-                             "': zero diagonal in row " + std::to_string(row));
-          const double value = lumped ? (diagonal > 0 ? 1.0 : -1.0) / row_sum : 1.0 / diagonal;
+          // A stiffness matrix's rows of nodes without a Dirichlet condition sum to zero (a rigid
+          // translation is in its kernel): the signed row sum is then (round-off of) zero.
+          if (type == "row-sum" && std::abs(row_sum) <= 1e-12 * absolute_row_sum)
+            throw InputError("inverse approximation 'row-sum': zero row sum (" + std::to_string(row_sum) +
+                             " of absolute row sum " + std::to_string(absolute_row_sum) + ") in row " +
+                             std::to_string(row));
+          if (type != "row-sum" && diagonal == 0)
+            throw InputError("inverse approximation '" + type + "': zero diagonal in row " + std::to_string(row));
+          const double value = type == "diagonal" ? 1.0 / diagonal
+                               : type == "row-sum" ? 1.0 / row_sum
+                                                   : (diagonal > 0 ? 1.0 : -1.0) / absolute_row_sum;
           D->insertGlobalValues(row, Teuchos::tuple<GO>(row), Teuchos::tuple<SC>(value));
         }
       D->fillComplete(A.getDomainMap(), A.getRangeMap());
@@ -162,8 +171,10 @@ namespace multigrid
     if (options.drop_tolerance < 0)
       throw InputError("inverse approximation: drop tolerance must be >= 0, got " +
                        std::to_string(options.drop_tolerance));
-    if (options.type == "diagonal" || options.type == "lumping")
-      return diagonal_inverse(A, options.type == "lumping");
+    if (options.type == "diagonal" || options.type == "row-sum" || options.type == "absolute-row-sum")
+      return diagonal_inverse(A, options.type);
+    if (options.type == "lumping") // MueLu's name for the absolute row sum
+      return diagonal_inverse(A, "absolute-row-sum");
     if (options.type == "spai")
       {
         if (options.pattern_power < 1 || options.pattern_power > 4)
@@ -171,7 +182,7 @@ namespace multigrid
                            std::to_string(options.pattern_power));
         return spai(A, options);
       }
-    throw InputError("unknown inverse approximation '" + options.type + "' (expected diagonal, lumping or spai)");
+    throw InputError("unknown inverse approximation '" + options.type + "' (expected diagonal, row-sum, absolute-row-sum (alias lumping) or spai)");
   }
 
   InverseApproximationOptions inverse_approximation_options(const Teuchos::ParameterList& list,

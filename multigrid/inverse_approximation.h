@@ -2,9 +2,13 @@
 // the Schur complement S = C - B Â^-1 B^T of the beam/solid preset `schur-sa-amg(spai)` (seed
 // 001) and the SPAI smoother x <- x - Â (A x - b).
 //
-//   diagonal   Â = diag(A)^-1
-//   lumping    Â = diag(sign(a_ii) / sum_j |a_ij|)       (row-sum lumping)
-//   spai       Â = argmin ||A Â - I||_F over a prescribed sparsity pattern P
+//   diagonal           Â = diag(A)^-1
+//   row-sum            Â = diag(1 / sum_j a_ij)                 (row-sum lumping, as of a mass
+//                                                              matrix; singular for a stiffness
+//                                                              matrix, whose free rows sum to 0)
+//   absolute-row-sum   Â = diag(sign(a_ii) / sum_j |a_ij|)      (MueLu's "lumping", SIMPLEC's Â;
+//   (alias lumping)                                            |Â_ii| <= 1 / |a_ii|)
+//   spai               Â = argmin ||A Â - I||_F over a prescribed sparsity pattern P
 //
 // The Frobenius norm decouples into one small least-squares problem per column k of Â:
 //   min || A(I_k, J_k) m_k - e_k(I_k) ||_2,
@@ -32,7 +36,7 @@ namespace multigrid
 
   struct InverseApproximationOptions
   {
-    std::string type           = "spai"; ///< diagonal | lumping | spai
+    std::string type           = "spai"; ///< diagonal | row-sum | absolute-row-sum (lumping) | spai
     int         pattern_power  = 1;      ///< spai: pattern of A^k, k = 1 ... 4
     double      drop_tolerance = 0.0;    ///< spai: relative to the largest entry of the pattern row
   };
@@ -44,8 +48,8 @@ namespace multigrid
                                                             const std::string& default_type);
 
   /// Â for A (square, fill-complete, row map = range map). Throws InputError for an unknown type,
-  /// a pattern power outside 1 ... 4, a negative drop tolerance, or a zero diagonal (diagonal /
-  /// lumping).
+  /// a pattern power outside 1 ... 4, a negative drop tolerance, or a zero diagonal or zero (lumped)
+  /// row sum.
   Teuchos::RCP<TpetraMatrix> approximate_inverse(const TpetraMatrix& A, const InverseApproximationOptions& options);
   /// The same on an Xpetra matrix (Tpetra underneath).
   RCP<Matrix> approximate_inverse(const Matrix& A, const InverseApproximationOptions& options);

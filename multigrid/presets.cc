@@ -157,6 +157,7 @@ namespace multigrid
       if (preset.kind == "cheapsimple" && parent.empty())
         {
           optional->set("predictor", std::string("amg"));
+          optional->set("update inverse approximation", std::string("diagonal"));
           optional->set("schur nullspace", std::string("none"));
           optional->set("spai: pattern power", 1);
           optional->set("spai: drop tolerance", 0.0);

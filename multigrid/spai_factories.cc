@@ -21,7 +21,8 @@ namespace multigrid
     using MueLu::Level;
     using FactoryPointer = RCP<const MueLu::FactoryBase>;
 
-    /// "Ainv" = Â ≈ A^-1 of the level's "A" (usually the A00 block): diagonal, lumping or spai.
+    /// "Ainv" = Â ≈ A^-1 of the level's "A" (usually the A00 block): diagonal, row-sum,
+    /// absolute-row-sum (lumping) or spai.
     class InverseApproximationFactory : public MueLu::SingleLevelFactoryBase
     {
     public:
@@ -85,10 +86,21 @@ namespace multigrid
         RCP<Matrix>            inverse_A01 = MM::Multiply(*inverse, false, *A01, false, out);
         RCP<Matrix>            product     = MM::Multiply(*A10, false, *inverse_A01, false, out);
         RCP<Matrix>            S;
-        MM::TwoMatrixAdd(*A11, false, 1.0, *product, false, -1.0 / omega_, S, out);
-        S->fillComplete(A11->getDomainMap(), A11->getRangeMap());
-        // the block's striding, for the corrector's smoother and a later AMG on S
-        S->SetFixedBlockSize(A11->GetFixedBlockSize());
+        if (A11.is_null()) // a coarse level's all-zero C block is not stored
+          {
+            const auto domain = product->getDomainMap(), range = product->getRangeMap();
+            product->resumeFill();
+            product->scale(-1.0 / omega_);
+            product->fillComplete(domain, range);
+            S = product;
+          }
+        else
+          {
+            MM::TwoMatrixAdd(*A11, false, 1.0, *product, false, -1.0 / omega_, S, out);
+            S->fillComplete(A11->getDomainMap(), A11->getRangeMap());
+            // the block's striding, for the corrector's smoother and a later AMG on S
+            S->SetFixedBlockSize(A11->GetFixedBlockSize());
+          }
         Set(level, "A", S);
       }
 

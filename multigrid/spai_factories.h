@@ -1,7 +1,8 @@
 // MueLu pieces of the beam/solid preset `schur-sa-amg(spai)` (seed 001: "special MueLu
 // factories"), built on inverse_approximation.h, for what MueLu 13.2 lacks:
-//   InverseApproximationFactory  "Ainv" = Â ≈ A^-1 of its "A": diagonal, lumping or spai
-//                                (min ||A Â - I||_F over the pattern of A^k, drop tolerance).
+//   InverseApproximationFactory  "Ainv" = Â ≈ A^-1 of its "A": diagonal, row-sum,
+//                                absolute-row-sum (lumping) or spai (min ||A Â - I||_F over the
+//                                pattern of A^k, drop tolerance).
 //   SpaiSchurComplementFactory   S = A11 - (1/omega) A10 Â A01 on every level with Â = "Ainv"
 //                                (MueLu 13.2's SchurComplementFactory only knows diag(A00)^-1).
 //   SpaiSmoother                 x <- x + damping Â (b - A x) with Â = "Ainv" (Bröker & Grote

@@ -22,6 +22,9 @@ namespace multigrid
     list->set<FactoryPointer>("Ainv", Teuchos::null, "InverseApproximationFactory of the A00 block");
     list->set<int>("Sweeps", 1, "Number of SIMPLE sweeps");
     list->set<double>("Damping factor", 1.0, "Damping of the Schur complement correction");
+    list->set<bool>("Undamped update", false,
+                    "Final update with the undamped correction, x1 += dx1 - Â A01 dx2 (seed 000's "
+                    "CheapSIMPLE slide), instead of the damped one, x1 += dx1 - Â A01 (omega dx2) (MueLu)");
     return list;
   }
 
@@ -74,6 +77,7 @@ namespace multigrid
     const auto&  list   = GetParameterList();
     const int    sweeps = list.get<int>("Sweeps");
     const double omega  = list.get<double>("Damping factor");
+    const bool   undamped_update = list.get<bool>("Undamped update");
     auto         bA     = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A_);
     const bool   thyra  = range_->getThyraMode();
     const auto   n      = B.getNumVectors();
@@ -108,11 +112,11 @@ namespace multigrid
         A10_->apply(*dx1, *schur_rhs);
         schur_rhs->update(1.0, *r2, -1.0);
         corrector_->Apply(*dx2, *schur_rhs);
-        dx2->scale(omega);
-        // 5. dx1 -= Â A01 dx2, then x += dx
+        // 5. dx1 -= Â A01 (omega dx2) (or Â A01 dx2, undamped), x2 += omega dx2, then x += dx
         A01_->apply(*dx2, *coupling);
         inverse_->apply(*coupling, *update);
-        dx1->update(-1.0, *update, 1.0);
+        dx1->update(undamped_update ? -1.0 : -omega, *update, 1.0);
+        dx2->scale(omega);
         bX->update(1.0, *dX, 1.0);
       }
     if (merged_X)

@@ -14,7 +14,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libdeal.ii-dev trilinos-all-dev libopenmpi-dev openmpi-bin libmetis-dev
   libsuperlu-dev libsuperlu-dist-dev gmsh libgmsh-dev
-  libgtest-dev python3-numpy python3-scipy python3-matplotlib python3-vtk9 xvfb xauth
+  libgtest-dev python3-numpy python3-scipy python3-matplotlib python3-vtk9 xvfb xauth python3-petsc4py
 )
 missing=()
 for p in "${packages[@]}"; do
