@@ -151,11 +151,14 @@ def weak(args):
               f"{collection}: np{r['ranks']} has {r['dofs']} DOFs, the class's model says {cls.dofs(size)['total']}")
         check(r["exit_status"] == 0 and r["converged"], f"{collection}: np{r['ranks']} did not converge")
         for key in ("newton_steps", "gmres_average", "gmres_max", "setup_seconds", "solve_seconds",
-                    "assembly_seconds", "wall_seconds", "peak_memory_mb_max", "operator_complexity"):
+                    "assembly_seconds", "wall_seconds", "peak_memory_mb_max", "peak_memory_mb_mean",
+                    "operator_complexity"):
             check(r.get(key) is not None, f"{collection}: np{r['ranks']} lacks {key}")
+        check(r["peak_memory_mb_mean"] <= r["peak_memory_mb_max"] + 1e-9,
+              f"{collection}: np{r['ranks']} mean peak memory above the largest")
         check(r["oversubscribed"] == (r["ranks"] > 1), f"{collection}: np{r['ranks']} oversubscribed flag wrong")
     check(rows[0]["efficiency_wall"] == 1.0, f"{collection}: efficiency of the first size {rows[0]['efficiency_wall']}")
-    check("peak_memory_mb_mean" in result["missing"], f"{collection}: the missing mean memory is not reported")
+    check(not result["missing"], f"{collection}: figures missing from the logs: {result['missing']}")
     out = os.path.join(args.work, "rendered")
     tool("render_all.py", study, "--out", out)
     with open(os.path.join(out, "manifest.json")) as f:
