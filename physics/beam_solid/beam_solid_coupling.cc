@@ -64,18 +64,6 @@ namespace physics::beam_solid
       return best;
     }
 
-    bool inside(const Mapping<3>& mapping, const CellIterator& cell, const Point<3>& p)
-    {
-      try
-        {
-          return GeometryInfo<3>::is_inside_unit_cell(mapping.transform_real_to_unit_cell(cell, p), 1e-10);
-        }
-      catch (const typename Mapping<3>::ExcTransformationFailed&)
-        {
-          return false;
-        }
-    }
-
     /// Which unit-cell coordinates of the point at xi lie on a face of `cell` (within 1e-8): a
     /// centreline along a face stays on it, and only there may the crossing test allow round-off.
     std::array<bool, 3> on_faces(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping,
@@ -88,18 +76,20 @@ namespace physics::beam_solid
       return on;
     }
 
-    /// Inside the cell with no tolerance across the faces the centreline crosses, so that two
-    /// neighbouring cells find the same crossing point (to round-off) and the pieces of an element
-    /// add up to its length; with deal.II's 1e-10 along the faces it lies on.
-    bool inside_exactly(const Mapping<3>& mapping, const CellIterator& cell, const Point<3>& p,
-                        const std::array<bool, 3>& on)
+    /// Inside the cell, with deal.II's tolerance of 1e-10 in the unit-cell coordinates marked
+    /// `tolerant` and none in the others. The crossings of a centreline are found with no
+    /// tolerance across the faces it crosses, so that two neighbouring cells find the same
+    /// crossing point (to round-off) and the pieces of an element add up to its length; only
+    /// along the faces it lies on is round-off allowed.
+    bool inside(const Mapping<3>& mapping, const CellIterator& cell, const Point<3>& p,
+                const std::array<bool, 3>& tolerant = {{true, true, true}})
     {
       try
         {
           const Point<3> u = mapping.transform_real_to_unit_cell(cell, p);
           for (unsigned int d = 0; d < 3; ++d)
             {
-              const double tolerance = on[d] ? 1e-10 : 0.0;
+              const double tolerance = tolerant[d] ? 1e-10 : 0.0;
               if (u[d] < -tolerance || u[d] > 1 + tolerance)
                 return false;
             }
@@ -119,7 +109,7 @@ namespace physics::beam_solid
       for (int k = 0; k < 60 && std::abs(out - in) > 1e-15; ++k)
         {
           const double mid = 0.5 * (in + out);
-          (inside_exactly(mapping, cell, position(beam, e, mid), on) ? in : out) = mid;
+          (inside(mapping, cell, position(beam, e, mid), on) ? in : out) = mid;
         }
       return 0.5 * (in + out);
     }
@@ -158,9 +148,9 @@ namespace physics::beam_solid
           if (!inside(mapping, cell, position(beam, e, m)))
             continue;
           const auto on = on_faces(beam, e, mapping, cell, m);
-          a = inside_exactly(mapping, cell, position(beam, e, -1.0), on) ? -1.0
+          a = inside(mapping, cell, position(beam, e, -1.0), on) ? -1.0
                                                                          : crossing(beam, e, mapping, cell, on, m, -1.0);
-          b = inside_exactly(mapping, cell, position(beam, e, 1.0), on) ? 1.0
+          b = inside(mapping, cell, position(beam, e, 1.0), on) ? 1.0
                                                                         : crossing(beam, e, mapping, cell, on, m, 1.0);
           return b > a;
         }

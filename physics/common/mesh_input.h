@@ -46,8 +46,9 @@ namespace physics
 
   /// Fills `tria` (empty) from `file`. Throws std::invalid_argument with a one-line message
   /// naming the file for a missing file, a gmsh failure or a mesh deal.II cannot read
-  /// (quadrilaterals/hexahedra expected). A .geo source is meshed on rank 0 and its text sent to
-  /// every rank: no mesh file is left behind.
+  /// (quadrilaterals/hexahedra expected). A .geo source is meshed on rank 0 of `comm` and its
+  /// text sent to every rank of `comm` (for a distributed mesh: the group roots only, see
+  /// common/distributed_mesh.h): no mesh file is left behind.
   template <int dim>
   void read_mesh(const std::string& file, int refinement, const std::string& work_directory,
                  dealii::Triangulation<dim>& tria, MPI_Comm comm);
