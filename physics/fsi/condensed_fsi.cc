@@ -106,8 +106,8 @@ namespace physics::fsi
             for (unsigned c = 0; c < dim; ++c)
               solid_clamped_.insert(cell->face(f)->vertex_dof_index(v, c));
     const auto lame           = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
-    solid_model_.materials[0] = make_material<dim>("SaintVenantKirchhoff", lame);
-    solid_model_.densities[0] = p_.solid_density;
+    solid_model_.materials[0] = make_material<dim>(p_.law, lame);
+    solid_model_.densities[0] = p_.density;
     for (const auto& cell : solid_tria_.active_cell_iterators())
       cell->set_material_id(0);
     DynamicSparsityPattern solid_pattern(solid_relevant_);
