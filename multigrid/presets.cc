@@ -329,14 +329,48 @@ namespace multigrid
     return from_list(name, list, file);
   }
 
-  void apply_overrides(Preset& preset, const std::vector<std::string>& overrides)
+  namespace
   {
-    for (const auto& o : overrides)
+    /// Splits "[P1, P2] PATH=VALUE" into the named presets and "PATH=VALUE" (no brackets: no
+    /// names, the override applies to every preset). Every name must be a shipped preset, so a
+    /// misspelt scope does not silently drop its override.
+    std::vector<std::string> override_scope(const std::string& o, std::string& rest)
+    {
+      rest = o;
+      if (o.empty() || o[0] != '[')
+        return {};
+      const auto close = o.find(']');
+      if (close == std::string::npos)
+        throw InputError("override '" + o + "': expected '[PRESET, ...] PATH=VALUE'");
+      std::vector<std::string> names;
+      std::stringstream        list(o.substr(1, close - 1));
+      const auto               known = available_presets();
+      for (std::string name; std::getline(list, name, ',');)
+        {
+          name.erase(0, name.find_first_not_of(' '));
+          name.erase(name.find_last_not_of(' ') + 1);
+          if (std::find(known.begin(), known.end(), name) == known.end())
+            throw InputError("override '" + o + "': unknown preset '" + name + "' in its scope");
+          names.push_back(name);
+        }
+      rest = o.substr(close + 1);
+      rest.erase(0, rest.find_first_not_of(' '));
+      return names;
+    }
+  } // namespace
+
+  void apply_overrides(Preset& preset, const std::vector<std::string>& scoped_overrides)
+  {
+    for (const auto& item : scoped_overrides)
       {
+        std::string o;
+        const auto  scope = override_scope(item, o);
+        if (!scope.empty() && std::find(scope.begin(), scope.end(), preset.name) == scope.end())
+          continue; // written for other presets
         const auto eq = o.find('=');
         if (eq == std::string::npos || eq == 0)
-          throw InputError("override '" + o + "': expected PATH=VALUE");
-        const std::string where = "override '" + o + "'";
+          throw InputError("override '" + item + "': expected PATH=VALUE");
+        const std::string where = "override '" + item + "'";
         const std::string path = o.substr(0, eq), value = o.substr(eq + 1);
         // Walk the sublists; none is created (a typo in a sublist name is an error).
         Teuchos::ParameterList* list = &preset.parameters;

@@ -46,6 +46,9 @@ namespace multigrid
   /// parameter the preset lacks is refused (InputError listing the known ones), except a parameter
   /// of MueLu's master list at the top of a MueLu list ("MueLu", "primal solver", "schur solver")
   /// and CheapSIMPLE's optional keys (predictor, schur nullspace, spai: ...) at the top level.
+  /// An override written "[P1, P2] PATH=VALUE" applies only when the preset is one of those named
+  /// (so a parameter file can carry the settings of several presets and the preset can be switched
+  /// with one --set); a name in brackets that is no shipped preset is refused.
   void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
 
   /// The what() of a Trilinos exception (a preset's parameters refused by Teuchos or MueLu) as
