@@ -94,7 +94,8 @@ namespace physics::beam_solid
       /// modes, solid rows and theirs.
       void set_nullspaces(multigrid::BlockSystem& system) const;
       void final_state(BeamSolidRunSummary& summary);
-      /// The whole beam mesh (read or generated) on rank 0, distributed with its elements.
+      /// This rank's part of the beams (beam_partition.h): its share of the generated fibre grid,
+      /// or of a beam file read on rank 0.
       void setup_beams();
       /// Is coupled-system DOF g a solid DOF with a Dirichlet constraint?
       bool constrained(GlobalIndex g) const
