@@ -94,7 +94,8 @@ namespace physics::beam_solid
         }
       data.push_back(static_cast<double>(part.element_ids.size()));
       for (std::size_t e = 0; e < part.element_ids.size(); ++e)
-        data.insert(data.end(), {static_cast<double>(part.element_ids[e]), static_cast<double>(part.mesh.elements[e][0]),
+        data.insert(data.end(), {static_cast<double>(part.element_ids[e]),
+                                 static_cast<double>(part.mesh.elements[e][0]),
                                  static_cast<double>(part.mesh.elements[e][1])});
       return data;
     }
@@ -138,9 +139,10 @@ namespace physics::beam_solid
           add_share(whole, 0, 0, part);
           parts[r] = pack(part);
         }
-    const auto      received = Utilities::MPI::some_to_some(comm, parts);
-    const auto&     data     = received.at(0);
-    DistributedBeam part     = empty_part(static_cast<BeamIndex>(data.at(0)), static_cast<BeamIndex>(data.at(1)), rank, n_ranks);
+    const auto  received = Utilities::MPI::some_to_some(comm, parts);
+    const auto& data     = received.at(0);
+    DistributedBeam part =
+        empty_part(static_cast<BeamIndex>(data.at(0)), static_cast<BeamIndex>(data.at(1)), rank, n_ranks);
     unpack(data, part);
     return part;
   }

@@ -338,7 +338,8 @@ namespace physics::beam_solid
       for (std::size_t i = 0; i < elements.size(); ++i)
         {
           auto& data = send[beam.owner(elements[i].nodes[0])];
-          data.insert(data.end(), {static_cast<double>(elements[i].id), coverage[i], static_cast<double>(pieces[i].size())});
+          data.insert(data.end(),
+                      {static_cast<double>(elements[i].id), coverage[i], static_cast<double>(pieces[i].size())});
           for (const auto& [a, b] : pieces[i])
             data.insert(data.end(), {a, b});
         }
@@ -360,9 +361,10 @@ namespace physics::beam_solid
             continue;
           CouplingElement element;
           element.x = {{beam.mesh.nodes[beam.mesh.elements[e][0]], beam.mesh.nodes[beam.mesh.elements[e][1]]}};
-          return {beam.element_ids[e],
-                  first_uncovered_point(element, method, it == mine.end() ? decltype(it->second.second)() : it->second.second,
-                                        gauss)};
+          std::vector<std::pair<double, double>> all_pieces;
+          if (it != mine.end())
+            all_pieces = it->second.second;
+          return {beam.element_ids[e], first_uncovered_point(element, method, all_pieces, gauss)};
         }
       return {numbers::invalid_dof_index, Point<3>()};
     }

@@ -215,7 +215,10 @@ namespace physics::beam_solid
       std::vector<GlobalIndex> read, read_beam;
       for (const auto& [row, entries] : coupling_matrix_)
         for (const auto& [column, value] : entries)
-          (column >= n_beam ? read : read_beam).push_back(column >= n_beam ? column - n_beam : column);
+          if (column >= n_beam)
+            read.push_back(column - n_beam);
+          else
+            read_beam.push_back(column);
       for (auto* list : {&read, &read_beam})
         {
           std::sort(list->begin(), list->end());
@@ -313,7 +316,8 @@ namespace physics::beam_solid
         {
           double& f = coupling_residual[row];
           for (const auto& [column, value] : entries)
-            f += value * (column < static_cast<GlobalIndex>(n_beam) ? d_beam_ghosted_[column] : u_ghosted_[column - n_beam]);
+            f += value * (column < static_cast<GlobalIndex>(n_beam) ? d_beam_ghosted_[column]
+                                                                    : u_ghosted_[column - n_beam]);
         }
 
       // Rows of the merged system: owned beam DOFs, then owned solid DOFs.
