@@ -5,9 +5,10 @@
 // with 2, see CMakeLists.txt).
 #include "beam_solid/beam_solid_coupling.h"
 #include "beam_solid/beam_solid_problem.h"
+#include "common/distributed_mesh.h"
 
 #include <deal.II/base/mpi.h>
-#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
@@ -42,25 +43,34 @@ class Coupling : public ::testing::TestWithParam<std::string>
 
 TEST_P(Coupling, RigidMotionLeavesNoGap)
 {
-  const MPI_Comm                    comm = MPI_COMM_WORLD;
-  parallel::shared::Triangulation<3> tria(comm);
-  GridGenerator::subdivided_hyper_rectangle(tria, {3, 4, 5}, Point<3>(), Point<3>(1, 1.2, 0.9));
+  // The solid fully distributed (as in the app) and the beams distributed with their elements:
+  // on 2 ranks the fibres' elements are integrated in the other rank's cells too, and rows of B
+  // and kappa are summed across ranks.
+  const MPI_Comm                                comm = MPI_COMM_WORLD;
+  parallel::fullydistributed::Triangulation<3> tria(comm);
+  physics::create_distributed_mesh<3>(tria, [](Triangulation<3>& box) {
+    GridGenerator::subdivided_hyper_rectangle(box, {3, 4, 5}, Point<3>(), Point<3>(1, 1.2, 0.9));
+  });
   FESystem<3>   fe(FE_Q<3>(1), 3);
   DoFHandler<3> dof_handler(tria);
   dof_handler.distribute_dofs(fe);
 
-  BeamMesh beam; // an inclined fibre and one along x, crossing many cells
-  add_straight_fibre(beam, Point<3>(0.05, 0.1, 0.2), Point<3>(0.93, 1.1, 0.7), 7);
-  add_straight_fibre(beam, Point<3>(0.0, 0.61, 0.37), Point<3>(1.0, 0.61, 0.37), 5);
-  beam.check_and_set_tangents("test");
-  // Beam nodes split among the ranks round-robin: rows of B are summed across ranks.
-  const unsigned int      n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  BeamMesh whole; // an inclined fibre and one along x, crossing many cells
+  add_straight_fibre(whole, Point<3>(0.05, 0.1, 0.2), Point<3>(0.93, 1.1, 0.7), 7);
+  add_straight_fibre(whole, Point<3>(0.0, 0.61, 0.37), Point<3>(1.0, 0.61, 0.37), 5);
+  whole.check_and_set_tangents("test");
+  const DistributedBeam beam = distribute_beam(whole, comm);
+  ASSERT_EQ(beam.n_nodes, whole.nodes.size());
+  if (Utilities::MPI::n_mpi_processes(comm) > 1)
+    {
+      EXPECT_LT(beam.node_ids.size(), whole.nodes.size()); // each rank stores only its part
+    }
   const BeamSolidCoupling coupling(beam, dof_handler, GetParam() == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar,
-                                   6, "test", [&](std::size_t n) { return static_cast<unsigned int>(n % n_ranks); }, comm);
+                                   6, "test", comm);
   double total_kappa = 0;
-  for (double k : coupling.kappa())
+  for (const auto& [node, k] : coupling.kappa())
     total_kappa += k;
-  EXPECT_NEAR(total_kappa, beam.nodes[7].distance(beam.nodes[0]) + 1.0, 1e-12);
+  EXPECT_NEAR(Utilities::MPI::sum(total_kappa, comm), whole.nodes[7].distance(whole.nodes[0]) + 1.0, 1e-12);
 
   // u = (R - I) X + c for a finite rotation R: trilinear solid elements and Hermite beams both
   // reproduce it exactly.
@@ -74,33 +84,42 @@ TEST_P(Coupling, RigidMotionLeavesNoGap)
   relevant.add_indices(coupling.solid_dofs().begin(), coupling.solid_dofs().end());
   TrilinosWrappers::MPI::Vector u(dof_handler.locally_owned_dofs(), comm), u_ghosted;
   for (const auto& cell : dof_handler.active_cell_iterators())
-    for (const unsigned int v : cell->vertex_indices())
-      if (dof_handler.locally_owned_dofs().is_element(cell->vertex_dof_index(v, 0)))
-        {
-          const Tensor<1, 3> X(cell->vertex(v)), x = rotate(X) + shift;
-          for (unsigned int c = 0; c < 3; ++c)
-            u[cell->vertex_dof_index(v, c)] = x[c] - X[c];
-        }
+    if (!cell->is_artificial())
+      for (const unsigned int v : cell->vertex_indices())
+        if (dof_handler.locally_owned_dofs().is_element(cell->vertex_dof_index(v, 0)))
+          {
+            const Tensor<1, 3> X(cell->vertex(v)), x = rotate(X) + shift;
+            for (unsigned int c = 0; c < 3; ++c)
+              u[cell->vertex_dof_index(v, c)] = x[c] - X[c];
+          }
   u.compress(VectorOperation::insert);
   u_ghosted.reinit(dof_handler.locally_owned_dofs(), relevant, comm);
   u_ghosted = u;
-  std::vector<double> d(beam.n_dofs()), zero(beam.n_dofs(), 0.0);
-  for (std::size_t n = 0; n < beam.nodes.size(); ++n)
+  // The beam motion on the owned nodes (the whole mesh gives their reference), read through
+  // the ghosts the rows of B need.
+  IndexSet beam_relevant = beam.owned_dofs();
+  beam_relevant.add_indices(coupling.beam_dofs().begin(), coupling.beam_dofs().end());
+  TrilinosWrappers::MPI::Vector d(beam.owned_dofs(), comm), d_ghosted(beam.owned_dofs(), beam_relevant, comm),
+      zero_ghosted(beam.owned_dofs(), beam_relevant, comm);
+  for (auto n = beam.first_owned; n < beam.end_owned; ++n)
     {
-      const Tensor<1, 3> X(beam.nodes[n]), x = rotate(X) + shift, t = rotate(beam.tangents[n]);
-      for (int c = 0; c < 3; ++c)
+      const Tensor<1, 3> X(whole.nodes[n]), x = rotate(X) + shift, t = rotate(whole.tangents[n]);
+      for (unsigned int c = 0; c < 3; ++c)
         {
           d[6 * n + c]     = x[c] - X[c];
-          d[6 * n + 3 + c] = t[c] - beam.tangents[n][c];
+          d[6 * n + 3 + c] = t[c] - whole.tangents[n][c];
         }
     }
+  d.compress(VectorOperation::insert);
+  d_ghosted = d;
   double largest = 0, control = 0;
-  for (const auto& g : coupling.gaps(d, u_ghosted))
+  for (const auto& [node, g] : coupling.gaps(d_ghosted, u_ghosted))
     largest = std::max(largest, std::hypot(g[0], std::hypot(g[1], g[2])));
-  for (const auto& g : coupling.gaps(zero, u_ghosted)) // beams left behind: a gap
+  for (const auto& [node, g] : coupling.gaps(zero_ghosted, u_ghosted)) // beams left behind: a gap
     control = std::max(control, std::hypot(g[0], std::hypot(g[1], g[2])));
-  EXPECT_LT(largest, 1e-13);
-  EXPECT_GT(control, 1e-2);
+  EXPECT_EQ(Utilities::MPI::sum(coupling.kappa().size(), comm), whole.nodes.size()); // a row per node
+  EXPECT_LT(Utilities::MPI::max(largest, comm), 1e-13);
+  EXPECT_GT(Utilities::MPI::max(control, comm), 1e-2);
 }
 
 INSTANTIATE_TEST_SUITE_P(BeamSolid, Coupling, ::testing::Values("mortar", "gpts"));
@@ -136,14 +155,16 @@ TEST(BeamSolid, OneRankAndAllRanksAgree)
   ASSERT_TRUE(all.converged);
   ASSERT_TRUE(one.converged);
   EXPECT_EQ(one.newton_iterations, all.newton_iterations);
-  ASSERT_EQ(one.beam_displacement.size(), all.beam_displacement.size());
+  // The run on all ranks holds this rank's beam DOFs, the one on this rank alone all of them.
+  ASSERT_EQ(one.beam_first_dof, 0);
+  ASSERT_LE(all.beam_first_dof + all.beam_displacement.size(), one.beam_displacement.size());
   ASSERT_GT(one.beam_displacement.size(), 0u);
   double diff = 0, scale = 0;
-  for (std::size_t k = 0; k < one.beam_displacement.size(); ++k)
-    {
-      diff  = std::max(diff, std::abs(one.beam_displacement[k] - all.beam_displacement[k]));
-      scale = std::max(scale, std::abs(one.beam_displacement[k]));
-    }
+  for (std::size_t k = 0; k < all.beam_displacement.size(); ++k)
+    diff = std::max(diff, std::abs(one.beam_displacement[all.beam_first_dof + k] - all.beam_displacement[k]));
+  for (const double d : one.beam_displacement)
+    scale = std::max(scale, std::abs(d));
+  diff = Utilities::MPI::max(diff, MPI_COMM_WORLD);
   EXPECT_LT(diff, 1e-8 * scale);
   EXPECT_NEAR(one.mean_end_displacement, all.mean_end_displacement, 1e-10);
   if (rank == 0)
@@ -161,9 +182,10 @@ TEST(BeamSolid, RefiningTheSolidConverges)
     {
       const auto s = run_beam_solid(cube(cells, 2 * cells, "mortar"), MPI_COMM_WORLD);
       ASSERT_TRUE(s.converged);
-      double largest = 0;
+      double largest = 0; // of this rank's beam nodes, then of all
       for (std::size_t n = 0; n < s.beam_displacement.size() / 6; ++n)
         largest = std::max(largest, std::abs(s.beam_displacement[6 * n]));
+      largest = Utilities::MPI::max(largest, MPI_COMM_WORLD);
       end.push_back(s.mean_end_displacement);
       fibre.push_back(largest);
       if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)

@@ -4,10 +4,34 @@
 
 #include <cstdio>
 #include <fstream>
+#include <ostream>
 #include <stdexcept>
 
 namespace physics::beam_solid
 {
+  namespace
+  {
+    /// Writes `file` through a temporary file renamed into place.
+    template <typename Writer>
+    void write_atomically(const std::string& file, const Writer& content)
+    {
+      const std::string tmp = multigrid::unique_temporary_name(file);
+      {
+        std::ofstream out(tmp);
+        if (!out)
+          throw std::runtime_error(file + ": cannot write");
+        out.precision(12);
+        content(out);
+        if (!out)
+          throw std::runtime_error(file + ": write failed");
+      }
+      if (std::rename(tmp.c_str(), file.c_str()) != 0)
+        throw std::runtime_error(file + ": cannot rename " + tmp);
+    }
+
+    const char* point_arrays[] = {"displacement", "coupling_line_load"};
+  } // namespace
+
   void write_beam_vtu(const BeamMesh& beam, const std::vector<double>& dofs,
                       const std::vector<std::array<double, 3>>& line_load, const std::string& file, int subdivisions)
   {
@@ -38,12 +62,7 @@ namespace physics::beam_solid
           }
       }
     const std::size_t per_element = subdivisions + 1;
-    const std::string tmp         = multigrid::unique_temporary_name(file);
-    {
-      std::ofstream out(tmp);
-      if (!out)
-        throw std::runtime_error(file + ": cannot write");
-      out.precision(12);
+    write_atomically(file, [&](std::ostream& out) {
       out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
           << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << points.size() << "\" NumberOfCells=\""
           << beam.elements.size() << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
@@ -63,18 +82,30 @@ namespace physics::beam_solid
       for (std::size_t e = 0; e < beam.elements.size(); ++e)
         out << "4\n"; // VTK_POLY_LINE
       out << "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n";
-      for (const auto& [name, values] : {std::make_pair("displacement", &displacement), std::make_pair("coupling_line_load", &load)})
+      const std::array<const std::vector<std::array<double, 3>>*, 2> values{{&displacement, &load}};
+      for (std::size_t a = 0; a < values.size(); ++a)
         {
-          out << "<DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-          for (const auto& v : *values)
+          out << "<DataArray type=\"Float64\" Name=\"" << point_arrays[a] << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+          for (const auto& v : *values[a])
             out << v[0] << " " << v[1] << " " << v[2] << "\n";
           out << "</DataArray>\n";
         }
       out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-      if (!out)
-        throw std::runtime_error(file + ": write failed");
-    }
-    if (std::rename(tmp.c_str(), file.c_str()) != 0)
-      throw std::runtime_error(file + ": cannot rename " + tmp);
+    });
+  }
+
+  void write_beam_pvtu(const std::vector<std::string>& pieces, const std::string& file)
+  {
+    write_atomically(file, [&](std::ostream& out) {
+      out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+          << "<PUnstructuredGrid GhostLevel=\"0\">\n<PPointData Vectors=\"displacement\">\n";
+      for (const char* name : point_arrays)
+        out << "<PDataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\"3\" format=\"ascii\"/>\n";
+      out << "</PPointData>\n<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\"/>\n"
+          << "</PPoints>\n";
+      for (const auto& piece : pieces)
+        out << "<Piece Source=\"" << piece << "\"/>\n";
+      out << "</PUnstructuredGrid>\n</VTKFile>\n";
+    });
   }
 } // namespace physics::beam_solid

@@ -23,18 +23,28 @@ namespace physics::beam_solid
   {
     using CellIterator = typename Triangulation<3>::active_cell_iterator;
 
+    /// A beam element as the coupling sees it: global number, global nodes, reference positions
+    /// of its ends (straight). Sent to every rank whose cells it may cross.
+    struct CouplingElement
+    {
+      BeamIndex                id = 0;
+      std::array<BeamIndex, 2> nodes{};
+      std::array<Point<3>, 2>  x;
+      double                   length() const { return x[1].distance(x[0]); }
+    };
+
     struct IntegrationPoint
     {
-      std::size_t  element;
+      std::size_t  element; ///< in the list of elements this rank integrates
       double       xi, ds; ///< element coordinate, weight in reference arc length
       CellIterator cell;
       Point<3>     unit; ///< in the solid cell's reference coordinates
     };
 
-    Point<3> position(const BeamMesh& beam, std::size_t e, double xi)
+    Point<3> position(const CouplingElement& element, double xi)
     {
-      const Point<3>& a = beam.nodes[beam.elements[e][0]];
-      const Point<3>& b = beam.nodes[beam.elements[e][1]];
+      const Point<3>& a = element.x[0];
+      const Point<3>& b = element.x[1];
       return a + (b - a) * (0.5 * (xi + 1)); // straight reference elements
     }
 
@@ -66,10 +76,10 @@ namespace physics::beam_solid
 
     /// Which unit-cell coordinates of the point at xi lie on a face of `cell` (within 1e-8): a
     /// centreline along a face stays on it, and only there may the crossing test allow round-off.
-    std::array<bool, 3> on_faces(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping,
+    std::array<bool, 3> on_faces(const CouplingElement& element, const Mapping<3>& mapping,
                                  const CellIterator& cell, double xi)
     {
-      const Point<3>      u = mapping.transform_real_to_unit_cell(cell, position(beam, e, xi));
+      const Point<3>      u = mapping.transform_real_to_unit_cell(cell, position(element, xi));
       std::array<bool, 3> on{};
       for (unsigned int d = 0; d < 3; ++d)
         on[d] = std::abs(u[d]) < 1e-8 || std::abs(u[d] - 1) < 1e-8;
@@ -103,13 +113,13 @@ namespace physics::beam_solid
 
     /// Bisection for where a straight centreline crosses the boundary of a (convex) hexahedron:
     /// `in` inside, `out` outside; returns the crossing parameter (to ~1e-14).
-    double crossing(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping, const CellIterator& cell,
+    double crossing(const CouplingElement& element, const Mapping<3>& mapping, const CellIterator& cell,
                     const std::array<bool, 3>& on, double in, double out)
     {
       for (int k = 0; k < 60 && std::abs(out - in) > 1e-15; ++k)
         {
           const double mid = 0.5 * (in + out);
-          (inside(mapping, cell, position(beam, e, mid), on) ? in : out) = mid;
+          (inside(mapping, cell, position(element, mid), on) ? in : out) = mid;
         }
       return 0.5 * (in + out);
     }
@@ -117,11 +127,11 @@ namespace physics::beam_solid
     /// The part [a, b] of element e's centreline inside `cell` (hexahedra are convex, so it is one
     /// interval); false if the centreline misses the cell. A point inside is searched among
     /// samples of the part within the cell's bounding box, then both ends are found by bisection.
-    bool piece_in_cell(const BeamMesh& beam, std::size_t e, const Mapping<3>& mapping, const CellIterator& cell,
+    bool piece_in_cell(const CouplingElement& element, const Mapping<3>& mapping, const CellIterator& cell,
                        const BoundingBox<3>& box, double& a, double& b)
     {
       // Slab clipping of the straight segment against the bounding box.
-      const Point<3> p0 = position(beam, e, -1.0), p1 = position(beam, e, 1.0);
+      const Point<3> p0 = position(element, -1.0), p1 = position(element, 1.0);
       double         t0 = -1.0, t1 = 1.0;
       for (unsigned int d = 0; d < 3; ++d)
         {
@@ -145,30 +155,31 @@ namespace physics::beam_solid
       for (int k = 0; k < n_samples; ++k)
         {
           const double m = t0 + (t1 - t0) * (k + 0.5) / n_samples;
-          if (!inside(mapping, cell, position(beam, e, m)))
+          if (!inside(mapping, cell, position(element, m)))
             continue;
-          const auto on = on_faces(beam, e, mapping, cell, m);
-          a = inside(mapping, cell, position(beam, e, -1.0), on) ? -1.0
-                                                                         : crossing(beam, e, mapping, cell, on, m, -1.0);
-          b = inside(mapping, cell, position(beam, e, 1.0), on) ? 1.0
-                                                                        : crossing(beam, e, mapping, cell, on, m, 1.0);
+          const auto on = on_faces(element, mapping, cell, m);
+          a = inside(mapping, cell, position(element, -1.0), on) ? -1.0
+                                                                         : crossing(element, mapping, cell, on, m, -1.0);
+          b = inside(mapping, cell, position(element, 1.0), on) ? 1.0
+                                                                        : crossing(element, mapping, cell, on, m, 1.0);
           return b > a;
         }
       return false;
     }
 
-    /// Segment-based ("mortar") integration points of element e in this rank's cells: the pieces
+    /// Segment-based ("mortar") integration points of `element` (number `index` in this rank's
+    /// list) in this rank's cells: the pieces
     /// of the centreline inside each locally owned cell (candidates from the R-tree of their
     /// bounding boxes), each kept by the rank whose cell agreed_cell() names at its midpoint
     /// (a centreline along a face between cells is integrated once), with Gauss points on every
     /// piece. Returns the kept pieces' total length in xi.
-    double mortar_points(const BeamMesh& beam, std::size_t e, const GridTools::Cache<3>& cache,
+    double mortar_points(const CouplingElement& element, std::size_t index, const GridTools::Cache<3>& cache,
                          const QGauss<1>& gauss, std::vector<IntegrationPoint>& points,
                          std::vector<std::pair<double, double>>& pieces)
     {
       const Mapping<3>& mapping = cache.get_mapping();
-      const double      l       = beam.element_length(e);
-      const Point<3>    p0 = position(beam, e, -1.0), p1 = position(beam, e, 1.0);
+      const double      l       = element.length();
+      const Point<3>    p0 = position(element, -1.0), p1 = position(element, 1.0);
       BoundingBox<3>    element_box(std::make_pair(p0, p0));
       element_box.merge_with(BoundingBox<3>(std::make_pair(p1, p1)));
       std::vector<std::pair<BoundingBox<3>, CellIterator>> candidates;
@@ -178,63 +189,51 @@ namespace physics::beam_solid
       for (const auto& [box, cell] : candidates)
         {
           double a = 0, b = 0;
-          if (!piece_in_cell(beam, e, mapping, cell, box, a, b))
+          if (!piece_in_cell(element, mapping, cell, box, a, b))
             continue;
-          if (agreed_cell(cache, position(beam, e, 0.5 * (a + b))) != cell)
+          if (agreed_cell(cache, position(element, 0.5 * (a + b))) != cell)
             continue;
           pieces.emplace_back(a, b);
           covered += b - a;
           for (unsigned int q = 0; q < gauss.size(); ++q)
             {
               const double   xi = a + (b - a) * gauss.point(q)[0];
-              const Point<3> p  = position(beam, e, xi);
-              points.push_back({e, xi, gauss.weight(q) * 0.5 * (b - a) * l, cell,
+              const Point<3> p  = position(element, xi);
+              points.push_back({index, xi, gauss.weight(q) * 0.5 * (b - a) * l, cell,
                                 mapping.transform_real_to_unit_cell(cell, p)});
             }
         }
       return covered;
     }
 
-    /// Gauss-point-to-segment points of element e in this rank's cells; returns how many.
-    int gpts_points(const BeamMesh& beam, std::size_t e, const GridTools::Cache<3>& cache, const QGauss<1>& gauss,
-                    std::vector<IntegrationPoint>& points)
+    /// Gauss-point-to-segment points of `element` (number `index`) in this rank's cells, each
+    /// also recorded as a piece (xi, xi); returns how many.
+    int gpts_points(const CouplingElement& element, std::size_t index, const GridTools::Cache<3>& cache,
+                    const QGauss<1>& gauss, std::vector<IntegrationPoint>& points,
+                    std::vector<std::pair<double, double>>& pieces)
     {
       int found = 0;
       for (unsigned int q = 0; q < gauss.size(); ++q)
         {
           const double   xi   = 2 * gauss.point(q)[0] - 1;
-          const Point<3> p    = position(beam, e, xi);
+          const Point<3> p    = position(element, xi);
           const auto     cell = agreed_cell(cache, p);
           if (cell.state() != IteratorState::valid || !cell->is_locally_owned())
             continue;
-          points.push_back({e, xi, gauss.weight(q) * beam.element_length(e), cell,
+          points.push_back({index, xi, gauss.weight(q) * element.length(), cell,
                             cache.get_mapping().transform_real_to_unit_cell(cell, p)});
+          pieces.emplace_back(xi, xi);
           ++found;
         }
       return found;
     }
 
-    /// The first point of element e no rank integrated (the element leaves the solid there):
-    /// the start of the first gap between the pieces of all ranks (mortar), or the first Gauss
-    /// point none found (gpts). Collective.
-    Point<3> first_uncovered_point(const BeamMesh& beam, std::size_t e, CouplingMethod method,
-                                   std::vector<std::pair<double, double>> pieces, const GridTools::Cache<3>& cache,
-                                   const QGauss<1>& gauss, MPI_Comm comm)
+    /// The first point of `element` no rank integrated (the element leaves the solid there),
+    /// from the pieces of all ranks: the start of the first gap between them (mortar), or the
+    /// first Gauss point none found (gpts).
+    Point<3> first_uncovered_point(const CouplingElement& element, CouplingMethod method,
+                                   std::vector<std::pair<double, double>> all, const QGauss<1>& gauss)
     {
-      if (method == CouplingMethod::gpts)
-        {
-          pieces.clear();
-          for (unsigned int q = 0; q < gauss.size(); ++q)
-            {
-              const double xi   = 2 * gauss.point(q)[0] - 1;
-              const auto   cell = agreed_cell(cache, position(beam, e, xi));
-              if (cell.state() == IteratorState::valid && cell->is_locally_owned())
-                pieces.emplace_back(xi, xi);
-            }
-        }
-      std::vector<std::pair<double, double>> all;
-      for (const auto& rank_pieces : Utilities::MPI::all_gather(comm, pieces))
-        all.insert(all.end(), rank_pieces.begin(), rank_pieces.end());
       std::sort(all.begin(), all.end());
       if (method == CouplingMethod::gpts)
         {
@@ -242,9 +241,9 @@ namespace physics::beam_solid
             {
               const double xi = 2 * gauss.point(q)[0] - 1;
               if (std::none_of(all.begin(), all.end(), [&](const auto& p) { return p.first == xi; }))
-                return position(beam, e, xi);
+                return position(element, xi);
             }
-          return position(beam, e, -1.0);
+          return position(element, -1.0);
         }
       double reached = -1.0;
       for (const auto& [a, b] : all)
@@ -253,13 +252,126 @@ namespace physics::beam_solid
             break;
           reached = std::max(reached, b);
         }
-      return position(beam, e, reached);
+      return position(element, reached);
+    }
+
+    /// The bounding box of this rank's owned cells, widened by 1e-8 of its size (the inside test
+    /// allows 1e-10 of a cell), as 6 numbers (lower, upper corner; none without owned cells).
+    std::vector<double> owned_cells_box(const Triangulation<3>& tria)
+    {
+      std::vector<double> box;
+      bool                first = true;
+      BoundingBox<3>      all;
+      for (const auto& cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            if (first)
+              all = cell->bounding_box();
+            else
+              all.merge_with(cell->bounding_box());
+            first = false;
+          }
+      if (first)
+        return box;
+      all.extend(1e-8 * all.get_boundary_points().first.distance(all.get_boundary_points().second));
+      for (const auto& corner : {all.get_boundary_points().first, all.get_boundary_points().second})
+        for (unsigned int d = 0; d < 3; ++d)
+          box.push_back(corner[d]);
+      return box;
+    }
+
+    /// Every rank receives the elements that may cross its owned cells: each rank sends each of
+    /// its elements to the ranks whose owned-cell box the element's box meets (one box per rank:
+    /// a compact METIS part is covered well enough; a rank that receives an element outside its
+    /// cells only finds no piece of it). Collective. Sorted by global number.
+    std::vector<CouplingElement> elements_near_owned_cells(const DistributedBeam& beam, const Triangulation<3>& tria,
+                                                           MPI_Comm comm)
+    {
+      const auto boxes = Utilities::MPI::all_gather(comm, owned_cells_box(tria));
+      std::map<unsigned int, std::vector<double>> send; // per element: id, nodes, both ends
+      for (std::size_t e = 0; e < beam.mesh.elements.size(); ++e)
+        {
+          const Point<3>& a = beam.mesh.nodes[beam.mesh.elements[e][0]];
+          const Point<3>& b = beam.mesh.nodes[beam.mesh.elements[e][1]];
+          for (unsigned int r = 0; r < boxes.size(); ++r)
+            {
+              bool meets = !boxes[r].empty();
+              for (unsigned int d = 0; d < 3 && meets; ++d)
+                meets = std::max(a[d], b[d]) >= boxes[r][d] && std::min(a[d], b[d]) <= boxes[r][3 + d];
+              if (!meets)
+                continue;
+              auto& data = send[r];
+              data.push_back(static_cast<double>(beam.element_ids[e]));
+              for (int k = 0; k < 2; ++k)
+                data.push_back(static_cast<double>(beam.global_node(e, k)));
+              for (const Point<3>* x : {&a, &b})
+                for (unsigned int d = 0; d < 3; ++d)
+                  data.push_back((*x)[d]);
+            }
+        }
+      std::vector<CouplingElement> elements;
+      for (const auto& [rank, data] : Utilities::MPI::some_to_some(comm, send))
+        for (std::size_t k = 0; k + 9 <= data.size(); k += 9)
+          {
+            CouplingElement element;
+            element.id       = static_cast<BeamIndex>(data[k]);
+            element.nodes    = {{static_cast<BeamIndex>(data[k + 1]), static_cast<BeamIndex>(data[k + 2])}};
+            element.x[0]     = Point<3>(data[k + 3], data[k + 4], data[k + 5]);
+            element.x[1]     = Point<3>(data[k + 6], data[k + 7], data[k + 8]);
+            elements.push_back(element);
+          }
+      std::sort(elements.begin(), elements.end(), [](const auto& x, const auto& y) { return x.id < y.id; });
+      return elements;
+    }
+
+    /// The coverage of every element this rank integrated (length in xi or number of Gauss
+    /// points) and its pieces, summed and gathered at the element's owner (collective). Returns,
+    /// of this rank's own elements (by local number), the smallest global number whose coverage
+    /// differs from `expected`, with its point outside the solid; numbers::invalid_dof_index
+    /// if none.
+    std::pair<BeamIndex, Point<3>> first_uncovered_element(
+        const DistributedBeam& beam, const std::vector<CouplingElement>& elements, const std::vector<double>& coverage,
+        const std::vector<std::vector<std::pair<double, double>>>& pieces, CouplingMethod method, double expected,
+        const QGauss<1>& gauss, MPI_Comm comm)
+    {
+      std::map<unsigned int, std::vector<double>> send; // per element: id, coverage, n pieces, pieces
+      for (std::size_t i = 0; i < elements.size(); ++i)
+        {
+          auto& data = send[beam.owner(elements[i].nodes[0])];
+          data.insert(data.end(),
+                      {static_cast<double>(elements[i].id), coverage[i], static_cast<double>(pieces[i].size())});
+          for (const auto& [a, b] : pieces[i])
+            data.insert(data.end(), {a, b});
+        }
+      std::map<BeamIndex, std::pair<double, std::vector<std::pair<double, double>>>> mine;
+      for (const auto& [rank, data] : Utilities::MPI::some_to_some(comm, send))
+        for (std::size_t k = 0; k < data.size();)
+          {
+            auto&             element = mine[static_cast<BeamIndex>(data[k])];
+            const std::size_t n       = static_cast<std::size_t>(data[k + 2]);
+            element.first += data[k + 1];
+            for (std::size_t i = 0; i < n; ++i)
+              element.second.emplace_back(data[k + 3 + 2 * i], data[k + 4 + 2 * i]);
+            k += 3 + 2 * n;
+          }
+      for (std::size_t e = 0; e < beam.mesh.elements.size(); ++e) // ascending global numbers
+        {
+          const auto it = mine.find(beam.element_ids[e]);
+          if (it != mine.end() && std::abs(it->second.first - expected) <= 1e-8)
+            continue;
+          CouplingElement element;
+          element.x = {{beam.mesh.nodes[beam.mesh.elements[e][0]], beam.mesh.nodes[beam.mesh.elements[e][1]]}};
+          std::vector<std::pair<double, double>> all_pieces;
+          if (it != mine.end())
+            all_pieces = it->second.second;
+          return {beam.element_ids[e], first_uncovered_point(element, method, all_pieces, gauss)};
+        }
+      return {numbers::invalid_dof_index, Point<3>()};
     }
   } // namespace
 
-  BeamSolidCoupling::BeamSolidCoupling(const BeamMesh& beam, const DoFHandler<3>& solid, CouplingMethod method,
-                                       int gauss_points, const std::string& source,
-                                       const std::function<unsigned int(std::size_t)>& node_owner, MPI_Comm comm)
+  BeamSolidCoupling::BeamSolidCoupling(const DistributedBeam& beam, const DoFHandler<3>& solid, CouplingMethod method,
+                                       int gauss_points, const std::string& source, MPI_Comm comm)
       : comm_(comm)
       , n_beam_dofs_(beam.n_dofs())
   {
@@ -267,86 +379,96 @@ namespace physics::beam_solid
     const GridTools::Cache<3> cache(tria, StaticMappingQ1<3>::mapping);
     const QGauss<1>           gauss(gauss_points); // on [0, 1]
 
-    // Every rank integrates the parts of all beam elements that lie in its own cells (the
-    // beam mesh itself is known on every rank); coverage is checked over all ranks: an element
-    // must be integrated along its whole length (mortar) or at all its Gauss points (gpts).
-    std::vector<IntegrationPoint> points;
-    std::vector<double>           coverage(beam.elements.size(), 0.0);
-    std::vector<std::vector<std::pair<double, double>>> pieces(beam.elements.size());
-    for (std::size_t e = 0; e < beam.elements.size(); ++e)
-      coverage[e] = method == CouplingMethod::mortar ? mortar_points(beam, e, cache, gauss, points, pieces[e])
-                                                     : gpts_points(beam, e, cache, gauss, points);
-    Utilities::MPI::sum(coverage, comm, coverage);
+    // Every rank integrates the parts of the elements near its cells that lie in its own cells;
+    // coverage is checked at each element's owner: an element must be integrated along its
+    // whole length (mortar) or at all its Gauss points (gpts).
+    const std::vector<CouplingElement> elements = elements_near_owned_cells(beam, tria, comm);
+    std::vector<IntegrationPoint>      points;
+    std::vector<double>                coverage(elements.size(), 0.0);
+    std::vector<std::vector<std::pair<double, double>>> pieces(elements.size());
+    for (std::size_t i = 0; i < elements.size(); ++i)
+      coverage[i] = method == CouplingMethod::mortar
+                        ? mortar_points(elements[i], i, cache, gauss, points, pieces[i])
+                        : gpts_points(elements[i], i, cache, gauss, points, pieces[i]);
     const double expected = method == CouplingMethod::mortar ? 2.0 : static_cast<double>(gauss.size());
-    for (std::size_t e = 0; e < beam.elements.size(); ++e)
-      if (std::abs(coverage[e] - expected) > 1e-8)
-        {
-          std::ostringstream where;
-          where << first_uncovered_point(beam, e, method, pieces[e], cache, gauss, comm);
-          throw std::invalid_argument(source + ": beam element " + std::to_string(e) + " has a point (" + where.str() +
-                                      ") outside the solid");
-        }
+    const auto [uncovered, where] =
+        first_uncovered_element(beam, elements, coverage, pieces, method, expected, gauss, comm);
+    const BeamIndex first_uncovered = Utilities::MPI::min(uncovered, comm);
+    std::string     error;
+    if (first_uncovered != numbers::invalid_dof_index && uncovered == first_uncovered)
+      {
+        std::ostringstream point;
+        point << where;
+        error = source + ": beam element " + std::to_string(uncovered) + " has a point (" + point.str() +
+                ") outside the solid";
+      }
+    throw_if_any_rank_failed(error, comm);
     n_points_ = Utilities::MPI::sum(points.size(), comm);
 
     // Partial rows j of B = [D, -M] from this rank's points, row j -> (x-component column ->
     // weight); the y and z columns follow the x column (beam: 6 DOFs per node, solid: node-major).
-    RowPieces partial;
-    kappa_.assign(beam.nodes.size(), 0.0);
+    RowPieces                     partial;
+    std::map<GlobalIndex, double> partial_kappa;
     for (const auto& point : points)
       {
-        const auto&  nodes = beam.elements[point.element];
-        const double l     = beam.element_length(point.element);
+        const auto&  nodes = elements[point.element].nodes;
+        const double l     = elements[point.element].length();
         const auto   h     = centreline_weights(point.xi, l);
         const typename DoFHandler<3>::active_cell_iterator cell(&tria, point.cell->level(), point.cell->index(), &solid);
         for (int a = 0; a < 2; ++a)
           {
-            const int    j   = nodes[a];
-            const double phi = a == 0 ? 0.5 * (1 - point.xi) : 0.5 * (1 + point.xi);
-            kappa_[j] += phi * point.ds;
+            const BeamIndex j   = nodes[a];
+            const double    phi = a == 0 ? 0.5 * (1 - point.xi) : 0.5 * (1 + point.xi);
+            partial_kappa[j] += phi * point.ds;
             // D: beam position / tangent unknowns of both element nodes.
             for (int k = 0; k < 4; ++k)
-              partial[j][6 * static_cast<GlobalIndex>(nodes[k / 2]) + 3 * (k % 2)] += phi * h[k] * point.ds;
+              partial[j][6 * nodes[k / 2] + 3 * (k % 2)] += phi * h[k] * point.ds;
             // -M: solid vertex unknowns of the cell, trilinear shape functions.
             for (unsigned int v = 0; v < GeometryInfo<3>::vertices_per_cell; ++v)
               partial[j][n_beam_dofs_ + cell->vertex_dof_index(v, 0)] -=
                   phi * GeometryInfo<3>::d_linear_shape_function(point.unit, v) * point.ds;
           }
       }
-    Utilities::MPI::sum(kappa_, comm, kappa_);
 
-    // Whole rows at the owners of their multiplier nodes.
-    std::set<GlobalIndex> solid_dofs;
-    for (const auto& [j, row] : send_rows_to_owners(partial, [&](GlobalIndex n) { return node_owner(n); }, comm))
+    // Whole rows and kappa at the owners of their multiplier nodes.
+    const auto node_owner = [&](GlobalIndex n) { return beam.owner(n); };
+    for (const auto& [j, k] : send_entries_to_owners(partial_kappa, node_owner, comm))
+      kappa_[j] = k;
+    std::set<GlobalIndex> solid_dofs, beam_dofs;
+    for (const auto& [j, row] : send_rows_to_owners(partial, node_owner, comm))
       {
         auto& entries = rows_[j];
         for (const auto& [column, weight] : row)
           {
             entries.push_back({{{column, column + 1, column + 2}}, weight});
-            if (column >= n_beam_dofs_)
-              for (unsigned int c = 0; c < 3; ++c)
+            for (unsigned int c = 0; c < 3; ++c)
+              if (column >= n_beam_dofs_)
                 solid_dofs.insert(column - n_beam_dofs_ + c);
+              else
+                beam_dofs.insert(column + c);
           }
       }
     solid_dofs_.assign(solid_dofs.begin(), solid_dofs.end());
+    beam_dofs_.assign(beam_dofs.begin(), beam_dofs.end());
   }
 
-  std::vector<std::array<double, 3>> BeamSolidCoupling::gaps(const std::vector<double>& beam_dofs,
-                                                             const TrilinosWrappers::MPI::Vector& solid) const
+  std::map<BeamIndex, std::array<double, 3>> BeamSolidCoupling::gaps(const TrilinosWrappers::MPI::Vector& beam,
+                                                                     const TrilinosWrappers::MPI::Vector& solid) const
   {
-    std::vector<double> g(3 * kappa_.size(), 0.0);
+    std::map<BeamIndex, std::array<double, 3>> g;
     for (const auto& [j, row] : rows_)
-      for (const auto& entry : row)
-        for (unsigned int c = 0; c < 3; ++c)
-          {
-            const GlobalIndex col   = entry.columns[c];
-            const double      value = col < n_beam_dofs_ ? beam_dofs[col] : solid[col - n_beam_dofs_];
-            g[3 * j + c] += entry.weight * value;
-          }
-    Utilities::MPI::sum(g, comm_, g);
-    std::vector<std::array<double, 3>> result(kappa_.size());
-    for (std::size_t j = 0; j < result.size(); ++j)
-      result[j] = {{g[3 * j], g[3 * j + 1], g[3 * j + 2]}};
-    return result;
+      {
+        auto& gap = g[j];
+        gap       = {{0.0, 0.0, 0.0}};
+        for (const auto& entry : row)
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              const GlobalIndex col   = entry.columns[c];
+              const double      value = col < n_beam_dofs_ ? beam[col] : solid[col - n_beam_dofs_];
+              gap[c] += entry.weight * value;
+            }
+      }
+    return g;
   }
 
   RowPieces BeamSolidCoupling::penalty_matrix(double epsilon,
@@ -356,9 +478,10 @@ namespace physics::beam_solid
     RowPieces matrix;
     for (const auto& [j, row] : rows_)
       {
-        if (kappa_[j] <= 0)
+        const auto kappa = kappa_.find(j);
+        if (kappa == kappa_.end() || kappa->second <= 0)
           continue;
-        const double scale = epsilon / kappa_[j];
+        const double scale = epsilon / kappa->second;
         for (const auto& a : row)
           for (unsigned int c = 0; c < 3; ++c)
             {

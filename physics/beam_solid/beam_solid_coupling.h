@@ -14,19 +14,21 @@
 // cells (found by bisection on the cell boundary; hexahedra are convex) with Gauss points on every
 // piece. Beam points are located with deal.II's GridTools::Cache (R-trees of cell bounding boxes).
 //
-// Parallel: the solid triangulation is fully distributed (common/distributed_mesh.h); the beam
-// mesh is known on every rank and its nodes are split among the ranks by `node_owner`. Each rank
-// integrates the parts of the beam elements inside its own cells (a point on a face between two
-// ranks' cells is taken by one of them, the owner of the cell with the smallest CellId), every
-// element's full coverage is checked over all ranks, and the partial rows of B are summed at the
-// owner of their multiplier node: rows of B live once, where their beam node lives. The penalty
-// matrix eps B^T k^-1 B is formed there and its rows are sent to the owners of the beam or solid
-// DOFs they belong to. kappa and the gaps are beam-sized vectors shared by all ranks (like the
-// beam unknowns). Global numbering of the coupled system: beam DOFs [0, n_B) (6 per node), then
-// solid DOFs n_B + (deal.II DOF index).
+// Parallel: the solid triangulation is fully distributed (common/distributed_mesh.h), and so are
+// the beams (beam_partition.h: every rank stores its own elements and node block). Each rank
+// sends its elements to the ranks whose owned cells may hold part of them (the bounding box of
+// each rank's owned cells, gathered once: P boxes, not a beam- or mesh-sized array); every rank
+// integrates the parts of the elements it received inside its own cells (a point on a face
+// between two ranks' cells is taken by one of them, the owner of the cell with the smallest
+// CellId); every element's coverage is summed and checked at its owner, and the partial rows of
+// B and of kappa are summed at the owner of their multiplier node: rows of B, kappa_j and the
+// gap g_j live once, where beam node j lives. The penalty matrix eps B^T k^-1 B is formed there
+// and its rows are sent to the owners of the beam or solid DOFs they belong to. Global numbering
+// of the coupled system: beam DOFs [0, n_B) (6 per node, beam_partition.h), then solid DOFs
+// n_B + (deal.II DOF index).
 #pragma once
 
-#include "beam_solid/kirchhoff_beam.h"
+#include "beam_solid/beam_partition.h"
 #include "common/row_exchange.h"
 
 #include <deal.II/dofs/dof_handler.h>
@@ -49,13 +51,12 @@ namespace physics::beam_solid
   class BeamSolidCoupling
   {
   public:
-    /// Locates the integration points of this rank's beam elements (those whose first node
-    /// `node_owner` assigns to it) in `solid` (Q1 vector FE) and sums the rows of B at their
-    /// owners (collective). Throws std::invalid_argument naming `source` when a beam point lies
-    /// outside the solid (on every rank).
-    BeamSolidCoupling(const BeamMesh& beam, const dealii::DoFHandler<3>& solid, CouplingMethod method,
-                      int gauss_points, const std::string& source,
-                      const std::function<unsigned int(std::size_t)>& node_owner, MPI_Comm comm);
+    /// Locates the integration points of all beam elements in `solid` (Q1 vector FE), each rank
+    /// in its own cells, and sums the rows of B and kappa at the owners of their beam nodes
+    /// (collective). Throws std::invalid_argument naming `source` when a beam point lies
+    /// outside the solid (on every rank, naming the element of smallest global number).
+    BeamSolidCoupling(const DistributedBeam& beam, const dealii::DoFHandler<3>& solid, CouplingMethod method,
+                      int gauss_points, const std::string& source, MPI_Comm comm);
 
     /// One row j of B = [D, -M] (per Cartesian component): column ids of the 3 components and a
     /// scalar weight.
@@ -64,20 +65,23 @@ namespace physics::beam_solid
       std::array<GlobalIndex, 3> columns;
       double                     weight;
     };
-    /// The rows of B of this rank's beam nodes, by node.
-    const std::map<std::size_t, std::vector<Entry>>& rows() const { return rows_; }
-    /// kappa_j of every beam node (on every rank).
-    const std::vector<double>& kappa() const { return kappa_; }
+    /// The rows of B of this rank's beam nodes, by global node.
+    const std::map<BeamIndex, std::vector<Entry>>& rows() const { return rows_; }
+    /// kappa_j of this rank's beam nodes, by global node.
+    const std::map<BeamIndex, double>& kappa() const { return kappa_; }
     /// Solid DOFs the local rows of B read (ghost them in the solid vector).
     const std::vector<GlobalIndex>& solid_dofs() const { return solid_dofs_; }
+    /// Beam DOFs the local rows of B read (ghost them in the beam vector): those of the beam
+    /// nodes next to this rank's nodes.
+    const std::vector<GlobalIndex>& beam_dofs() const { return beam_dofs_; }
     /// Number of integration points, on all ranks together.
     std::size_t n_points() const { return n_points_; }
 
-    /// Gap per multiplier node and component, g_j = (D d_B - M d_S)_j, of every beam node on
-    /// every rank (collective), from the beam DOFs and the solid displacement (ghosted, incl.
-    /// solid_dofs()).
-    std::vector<std::array<double, 3>> gaps(const std::vector<double>& beam_dofs,
-                                            const dealii::TrilinosWrappers::MPI::Vector& solid) const;
+    /// Gap per multiplier node and component, g_j = (D d_B - M d_S)_j, of this rank's beam
+    /// nodes, from the beam DOFs (ghosted, incl. beam_dofs()) and the solid displacement
+    /// (ghosted, incl. solid_dofs()). Not collective: the rows are whole at their owners.
+    std::map<BeamIndex, std::array<double, 3>> gaps(const dealii::TrilinosWrappers::MPI::Vector& beam,
+                                                    const dealii::TrilinosWrappers::MPI::Vector& solid) const;
 
     /// The penalty matrix eps B^T k^-1 B (global numbering of the coupled system), its rows sent
     /// to `row_owner` (collective): returns the rows this rank owns. It is constant, and the
@@ -85,11 +89,11 @@ namespace physics::beam_solid
     RowPieces penalty_matrix(double epsilon, const std::function<unsigned int(GlobalIndex)>& row_owner) const;
 
   private:
-    MPI_Comm                                  comm_;
-    unsigned int                              n_beam_dofs_;
-    std::map<std::size_t, std::vector<Entry>> rows_;
-    std::vector<double>                       kappa_;
-    std::vector<GlobalIndex>                  solid_dofs_;
-    std::size_t                               n_points_ = 0;
+    MPI_Comm                                comm_;
+    GlobalIndex                             n_beam_dofs_;
+    std::map<BeamIndex, std::vector<Entry>> rows_;
+    std::map<BeamIndex, double>             kappa_;
+    std::vector<GlobalIndex>                solid_dofs_, beam_dofs_;
+    std::size_t                             n_points_ = 0;
   };
 } // namespace physics::beam_solid

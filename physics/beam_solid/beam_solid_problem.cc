@@ -1,6 +1,7 @@
 #include "beam_solid/beam_solid_problem.h"
 
 #include "beam_solid/beam_output.h"
+#include "beam_solid/beam_partition.h"
 #include "beam_solid/beam_solid_coupling.h"
 #include "common/distributed_mesh.h"
 #include "common/mesh_input.h"
@@ -41,23 +42,32 @@ namespace physics::beam_solid
 
   namespace
   {
-    /// The fibre bundle of the parameters: fibres_y x fibres_z straight fibres from x = 0 to
-    /// x = a, rising by tilt * c over their length.
-    BeamMesh generate_fibres(const BeamSolidParameters& p)
+    /// This rank's share (beam_partition.h) of the fibre bundle of the parameters: fibres_y x
+    /// fibres_z straight fibres from x = 0 to x = a, rising by tilt * c over their length. Fibre
+    /// f = j fibres_z + k has the global nodes f (E + 1) + i and elements f E + i (E elements per
+    /// fibre), the numbering of the whole bundle; a rank builds only the fibres its node block
+    /// meets, so no rank ever holds the whole bundle.
+    DistributedBeam generate_fibres(const BeamSolidParameters& p, unsigned int rank, unsigned int n_ranks)
     {
-      BeamMesh beam;
-      auto     coordinate = [&](int i, int n, double extent) {
+      const BeamIndex n_elements = p.elements_per_fibre, n_fibres = p.fibres_y * p.fibres_z;
+      DistributedBeam part = empty_part(n_fibres * (n_elements + 1), n_fibres * n_elements, rank, n_ranks);
+      auto            coordinate = [&](int i, int n, double extent) {
         return n == 1 ? 0.5 * extent : extent * (p.fibre_margin + (1 - 2 * p.fibre_margin) * i / (n - 1.0));
       };
       for (int j = 0; j < p.fibres_y; ++j)
         for (int k = 0; k < p.fibres_z; ++k)
           {
+            const BeamIndex f = j * p.fibres_z + k, first = f * (n_elements + 1);
+            if (first >= part.end_owned || first + n_elements + 1 <= part.first_owned)
+              continue;
             const double y = coordinate(j, p.fibres_y, p.size[1]), z = coordinate(k, p.fibres_z, p.size[2]);
-            add_straight_fibre(beam, Point<3>(0, y, z), Point<3>(p.size[0], y, z + p.fibre_tilt * p.size[2]),
+            BeamMesh     fibre;
+            add_straight_fibre(fibre, Point<3>(0, y, z), Point<3>(p.size[0], y, z + p.fibre_tilt * p.size[2]),
                                p.elements_per_fibre);
+            fibre.check_and_set_tangents("Fibres");
+            add_share(fibre, first, f * n_elements, part);
           }
-      beam.check_and_set_tangents("Fibres");
-      return beam;
+      return part;
     }
 
     class BeamSolidProblem : public SteppedProblem
@@ -84,12 +94,9 @@ namespace physics::beam_solid
       /// modes, solid rows and theirs.
       void set_nullspaces(multigrid::BlockSystem& system) const;
       void final_state(BeamSolidRunSummary& summary);
-      bool owns_beam_node(std::size_t n) const { return n >= beam_first_ && n < beam_end_; }
-      /// Beam nodes are split into contiguous blocks, [n N / P, (n + 1) N / P) on rank n.
-      unsigned int beam_node_owner(std::size_t n) const
-      {
-        return static_cast<unsigned int>(((n + 1) * n_ranks_ - 1) / beam_.nodes.size());
-      }
+      /// This rank's part of the beams (beam_partition.h): its share of the generated fibre grid,
+      /// or of a beam file read on rank 0.
+      void setup_beams();
       /// Is coupled-system DOF g a solid DOF with a Dirichlet constraint?
       bool constrained(GlobalIndex g) const
       {
@@ -110,14 +117,14 @@ namespace physics::beam_solid
       DynamicSparsityPattern             pattern_;
       SolidModel<3>                      model_;
 
-      BeamMesh                           beam_;
+      DistributedBeam                    beam_; ///< this rank's elements and nodes (beam_partition.h)
       BeamSection                        section_;
       std::unique_ptr<BeamSolidCoupling> coupling_;
       RowPieces                          coupling_matrix_; ///< owned rows of eps B^T k^-1 B (constant)
-      std::size_t                        beam_first_ = 0, beam_end_ = 0; ///< owned beam nodes
+      IndexSet                           beam_owned_, beam_ghosts_; ///< owned / read beam DOFs
 
       TrilinosWrappers::MPI::Vector u_, u_ghosted_;
-      std::vector<double>           d_beam_; ///< all beam DOFs, on every rank
+      TrilinosWrappers::MPI::Vector d_beam_, d_beam_ghosted_; ///< beam DOFs: owned, and as read here
       JsonLinesLog                  log_;
       std::unique_ptr<VtkSeries>    solid_vtk_;
       std::unique_ptr<PvdSeries>    beam_pvd_;
@@ -125,11 +132,11 @@ namespace physics::beam_solid
       // The step in progress
       double                        load_factor_ = 0;
       TrilinosWrappers::MPI::Vector u_begin_; ///< state at the step's start (reset_step)
-      std::vector<double>           d_beam_begin_;
+      TrilinosWrappers::MPI::Vector d_beam_begin_;
       multigrid::BlockSystem        system_;  ///< the last linearization
       /// The last update's direction (solid, beam) and its applied length (line search).
       TrilinosWrappers::MPI::Vector du_direction_;
-      std::vector<double>           d_beam_direction_;
+      TrilinosWrappers::MPI::Vector d_beam_direction_;
       double                        update_length_ = 1;
     };
 
@@ -180,16 +187,8 @@ namespace physics::beam_solid
       const auto lame = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
       model_.materials[0] = make_material<3>(p_.law, lame);
 
-      beam_ = p_.beam_file.empty()
-                  ? generate_fibres(p_)
-                  : read_beam_mesh(gmsh_mesh(p_.beam_file, 1, p_.beam_refinement, p_.output_directory, comm_),
-                                   p_.beam_file);
+      setup_beams();
       section_ = BeamSection::circular(p_.beam_youngs_modulus, p_.fibre_radius);
-      // Beam nodes: contiguous blocks per rank.
-      const std::size_t n_nodes = beam_.nodes.size();
-      beam_first_               = n_nodes * rank_ / n_ranks_;
-      beam_end_                 = n_nodes * (rank_ + 1) / n_ranks_;
-      d_beam_.assign(beam_.n_dofs(), 0.0);
 
       // The coupling is linear in the unknowns and tied to the reference configuration: its
       // matrix is built once. Rows of constrained solid DOFs are dropped (those keep K_S's
@@ -197,27 +196,40 @@ namespace physics::beam_solid
       Timer coupling_timer;
       coupling_ = std::make_unique<BeamSolidCoupling>(
           beam_, dof_handler_, p_.coupling == "gpts" ? CouplingMethod::gpts : CouplingMethod::mortar, p_.gauss_points,
-          "Fibres", [this](std::size_t n) { return beam_node_owner(n); }, comm_);
+          "Fibres", comm_);
       const auto        owned_per_rank = Utilities::MPI::all_gather(comm_, owned_);
       const GlobalIndex n_beam         = beam_.n_dofs();
       coupling_matrix_                 = coupling_->penalty_matrix(p_.penalty, [&](GlobalIndex g) {
-        return g < n_beam ? beam_node_owner(g / 6) : owning_rank(owned_per_rank, g - n_beam);
+        return g < n_beam ? beam_.owner(g / 6) : owning_rank(owned_per_rank, g - n_beam);
       });
       for (auto it = coupling_matrix_.begin(); it != coupling_matrix_.end();)
         it = constrained(it->first) ? coupling_matrix_.erase(it) : std::next(it);
       const double coupling_seconds = coupling_timer.wall_time();
 
-      // Ghosts: what the solid assembly, the local rows of B and the coupling matrix read.
+      // Ghosts: what the solid assembly, the local rows of B and the coupling matrix read; of the
+      // beams, the nodes of this rank's elements and the neighbours its rows of B couple to.
       ghosts_ = relevant_;
       ghosts_.add_indices(coupling_->solid_dofs().begin(), coupling_->solid_dofs().end());
-      std::vector<GlobalIndex> read;
+      beam_ghosts_ = beam_.stored_dofs();
+      beam_ghosts_.add_indices(coupling_->beam_dofs().begin(), coupling_->beam_dofs().end());
+      std::vector<GlobalIndex> read, read_beam;
       for (const auto& [row, entries] : coupling_matrix_)
         for (const auto& [column, value] : entries)
           if (column >= n_beam)
             read.push_back(column - n_beam);
-      std::sort(read.begin(), read.end());
-      read.erase(std::unique(read.begin(), read.end()), read.end());
+          else
+            read_beam.push_back(column);
+      for (auto* list : {&read, &read_beam})
+        {
+          std::sort(list->begin(), list->end());
+          list->erase(std::unique(list->begin(), list->end()), list->end());
+        }
       ghosts_.add_indices(read.begin(), read.end());
+      beam_ghosts_.add_indices(read_beam.begin(), read_beam.end());
+      beam_owned_ = beam_.owned_dofs();
+      beam_ghosts_.add_indices(beam_owned_);
+      d_beam_.reinit(beam_owned_, comm_);
+      d_beam_ghosted_.reinit(beam_owned_, beam_ghosts_, comm_);
       u_.reinit(owned_, comm_);
       u_ghosted_.reinit(owned_, ghosts_, comm_);
       if (rank_ == 0)
@@ -226,10 +238,37 @@ namespace physics::beam_solid
       beam_pvd_  = std::make_unique<PvdSeries>(p_.output_directory + "/beams.pvd");
       pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells (at most "
              << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), " << dof_handler_.n_dofs()
-             << " solid DOFs, beams with " << beam_.elements.size()
-             << " elements, " << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
+             << " solid DOFs, beams with " << beam_.n_elements << " elements (beam nodes stored on a rank: at most "
+             << Utilities::MPI::max(beam_.node_ids.size(), comm_) << " of " << beam_.n_nodes << "), "
+             << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
              << p_.coupling << ", " << coupling_seconds << " s), " << n_ranks_ << " ranks, preset "
              << p_.solver.preset << "\n";
+    }
+
+    void BeamSolidProblem::setup_beams()
+    {
+      if (p_.beam_file.empty())
+        {
+          beam_ = generate_fibres(p_, rank_, n_ranks_);
+          return;
+        }
+      // A beam file: rank 0 reads the whole mesh (gmsh meshes a .geo there, read_beam_mesh()
+      // orients and checks it; a temporary of setup) and sends every rank its part. An input
+      // error is thrown on every rank.
+      BeamMesh    whole;
+      std::string error;
+      if (rank_ == 0)
+        try
+          {
+            whole = read_beam_mesh(gmsh_mesh(p_.beam_file, 1, p_.beam_refinement, p_.output_directory, MPI_COMM_SELF),
+                                   p_.beam_file);
+          }
+        catch (const std::invalid_argument& e)
+          {
+            error = e.what();
+          }
+      throw_if_any_rank_failed(error, comm_);
+      beam_ = distribute_beam(whole, comm_);
     }
 
     multigrid::BlockSystem BeamSolidProblem::assemble(double load_factor)
@@ -245,26 +284,29 @@ namespace physics::beam_solid
       u_ghosted_ = u_;
       assemble_solid(dof_handler_, model_, u_ghosted_, constraints_, r, &K);
 
-      // Beam elements: computed by the owner of their first node, rows sent to the node owners.
+      // Beam elements: computed by their owner (that of their first node), rows of the second
+      // node sent to its owner where another rank owns it.
+      d_beam_ghosted_ = d_beam_;
       RowPieces                     beam_rows;
       std::map<GlobalIndex, double> beam_residual;
-      for (std::size_t e = 0; e < beam_.elements.size(); ++e)
+      for (std::size_t e = 0; e < beam_.mesh.elements.size(); ++e)
         {
-          if (!owns_beam_node(beam_.elements[e][0]))
-            continue;
-          std::array<double, 12> d;
-          for (int i = 0; i < 12; ++i)
-            d[i] = d_beam_[6 * beam_.elements[e][i / 6] + i % 6];
-          const auto ed = element_derivatives(beam_, e, section_, d);
+          std::array<GlobalIndex, 12> dof;
+          std::array<double, 12>      d;
           for (int i = 0; i < 12; ++i)
             {
-              const GlobalIndex row = 6 * beam_.elements[e][i / 6] + i % 6;
-              beam_residual[row] += ed.gradient[i];
+              dof[i] = 6 * beam_.global_node(e, i / 6) + i % 6;
+              d[i]   = d_beam_ghosted_[dof[i]];
+            }
+          const auto ed = element_derivatives(beam_.mesh, e, section_, d);
+          for (int i = 0; i < 12; ++i)
+            {
+              beam_residual[dof[i]] += ed.gradient[i];
               for (int j = 0; j < 12; ++j)
-                beam_rows[row][6 * beam_.elements[e][j / 6] + j % 6] += ed.hessian[12 * i + j];
+                beam_rows[dof[i]][dof[j]] += ed.hessian[12 * i + j];
             }
         }
-      const auto beam_row_owner = [this](GlobalIndex row) { return beam_node_owner(row / 6); };
+      const auto beam_row_owner = [this](GlobalIndex row) { return beam_.owner(row / 6); };
       beam_rows                 = send_rows_to_owners(beam_rows, beam_row_owner, comm_);
       beam_residual             = send_entries_to_owners(beam_residual, beam_row_owner, comm_);
 
@@ -274,14 +316,15 @@ namespace physics::beam_solid
         {
           double& f = coupling_residual[row];
           for (const auto& [column, value] : entries)
-            f += value * (column < static_cast<GlobalIndex>(n_beam) ? d_beam_[column] : u_ghosted_[column - n_beam]);
+            f += value * (column < static_cast<GlobalIndex>(n_beam) ? d_beam_ghosted_[column]
+                                                                    : u_ghosted_[column - n_beam]);
         }
 
       // Rows of the merged system: owned beam DOFs, then owned solid DOFs.
       std::vector<GO>                   beam_gids, solid_gids;
       std::vector<std::map<GO, double>> rows;
       std::vector<double>               rhs;
-      for (std::size_t n = beam_first_; n < beam_end_; ++n)
+      for (GlobalIndex n = beam_.first_owned; n < beam_.end_owned; ++n)
         for (int k = 0; k < 6; ++k)
           beam_gids.push_back(6 * static_cast<GO>(n) + k);
       for (const auto i : owned_)
@@ -336,16 +379,17 @@ namespace physics::beam_solid
       for (int m = 0; m < 6; ++m)
         {
           auto data = beam_modes->getDataNonConst(m);
-          for (std::size_t n = beam_first_, i = 0; n < beam_end_; ++n, i += 6)
+          for (GlobalIndex n = beam_.first_owned, i = 0; n < beam_.end_owned; ++n, i += 6)
             {
+              const std::size_t local = beam_.local_node(n);
               Tensor<1, 3> w, shift_x, shift_t;
               if (m < 3)
                 shift_x[m] = 1.0;
               else
                 {
                   w[m - 3] = 1.0;
-                  shift_x  = cross_product_3d(w, Tensor<1, 3>(beam_.nodes[n]));
-                  shift_t  = cross_product_3d(w, beam_.tangents[n]);
+                  shift_x  = cross_product_3d(w, Tensor<1, 3>(beam_.mesh.nodes[local]));
+                  shift_t  = cross_product_3d(w, beam_.mesh.tangents[local]);
                 }
               for (int c = 0; c < 3; ++c)
                 {
@@ -393,11 +437,11 @@ namespace physics::beam_solid
 
     void BeamSolidProblem::update(const multigrid::MultiVector& dx)
     {
-      // Solid into u, beam into the replicated beam vector.
+      // Solid into u, beam into the beam vector (both: the owned rows of the increment).
       const GO   n_beam = beam_.n_dofs();
       const auto data   = dx.getData(0);
       const auto map    = dx.getMap();
-      d_beam_direction_.assign(n_beam, 0.0);
+      d_beam_direction_.reinit(beam_owned_, comm_);
       du_direction_.reinit(owned_, comm_);
       for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
         {
@@ -408,7 +452,7 @@ namespace physics::beam_solid
             du_direction_[g - n_beam] = data[i];
         }
       du_direction_.compress(VectorOperation::insert);
-      MPI_Allreduce(MPI_IN_PLACE, d_beam_direction_.data(), static_cast<int>(n_beam), MPI_DOUBLE, MPI_SUM, comm_);
+      d_beam_direction_.compress(VectorOperation::insert);
       update_length_ = 0;
       set_update_length(1.0);
     }
@@ -417,8 +461,7 @@ namespace physics::beam_solid
     {
       const double change = step_length - update_length_;
       u_.add(change, du_direction_);
-      for (std::size_t k = 0; k < d_beam_.size(); ++k)
-        d_beam_[k] += change * d_beam_direction_[k];
+      d_beam_.add(change, d_beam_direction_);
       update_length_ = step_length;
     }
 
@@ -446,16 +489,14 @@ namespace physics::beam_solid
 
     void BeamSolidProblem::final_state(BeamSolidRunSummary& summary)
     {
-      u_ghosted_ = u_;
-      double gap = 0;
-      for (const auto& g : coupling_->gaps(d_beam_, u_ghosted_))
+      u_ghosted_      = u_;
+      d_beam_ghosted_ = d_beam_;
+      double gap      = 0;
+      for (const auto& [node, g] : coupling_->gaps(d_beam_ghosted_, u_ghosted_))
         gap = std::max(gap, std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]));
-      summary.max_gap = gap;
+      summary.max_gap               = Utilities::MPI::max(gap, comm_);
       summary.solid_displacement_l2 = u_.l2_norm();
-      double beam_sq                = 0;
-      for (const double d : d_beam_)
-        beam_sq += d * d;
-      summary.beam_displacement_l2 = std::sqrt(beam_sq);
+      summary.beam_displacement_l2  = d_beam_.l2_norm();
       double sum = 0, count = 0;
       for (const auto& cell : dof_handler_.active_cell_iterators())
         if (!cell->is_artificial()) // every cell at an owned vertex is owned or a ghost
@@ -467,7 +508,10 @@ namespace physics::beam_solid
               }
       // (vertices are counted once per adjacent cell; the mean is unaffected on a uniform grid)
       summary.mean_end_displacement = Utilities::MPI::sum(sum, comm_) / Utilities::MPI::sum(count, comm_);
-      summary.beam_displacement     = d_beam_;
+      summary.beam_first_dof        = static_cast<long long>(6 * beam_.first_owned);
+      summary.beam_displacement.clear();
+      for (const auto g : beam_owned_)
+        summary.beam_displacement.push_back(d_beam_[g]);
     }
 
     void BeamSolidProblem::write_output(int step, double /*time*/, bool last)
@@ -482,18 +526,47 @@ namespace physics::beam_solid
       solid.attach(out, dof_handler_, model_, u_ghosted_);
       out.build_patches();
       solid_vtk_->write(out, step, step);
-      // Beams (rank 0 has every beam DOF): line cells with displacement and the coupling force
-      // per unit length, lambda_j = eps / kappa_j g_j.
-      const auto gaps = coupling_->gaps(d_beam_, u_ghosted_);
+
+      // Beams: every rank writes its elements as line cells with the displacement and the
+      // coupling force per unit length, lambda_j = eps / kappa_j g_j. lambda is known at the
+      // owners of the nodes; it travels to the ghost nodes in the position slots of a vector of
+      // the beam DOFs' layout.
+      d_beam_ghosted_ = d_beam_;
+      TrilinosWrappers::MPI::Vector lambda(beam_owned_, comm_), lambda_ghosted(beam_owned_, beam_ghosts_, comm_);
+      for (const auto& [j, g] : coupling_->gaps(d_beam_ghosted_, u_ghosted_))
+        {
+          const auto   kappa = coupling_->kappa().find(j);
+          const double scale = kappa != coupling_->kappa().end() && kappa->second > 0 ? p_.penalty / kappa->second : 0.0;
+          for (int c = 0; c < 3; ++c)
+            lambda[6 * j + c] = scale * g[c];
+        }
+      lambda.compress(VectorOperation::insert);
+      lambda_ghosted = lambda;
+      const std::size_t                  n_local = beam_.node_ids.size();
+      std::vector<double>                dofs(6 * n_local);
+      std::vector<std::array<double, 3>> line_load(n_local);
+      for (std::size_t n = 0; n < n_local; ++n)
+        for (int k = 0; k < 6; ++k)
+          {
+            const GlobalIndex g = 6 * beam_.node_ids[n] + k;
+            dofs[6 * n + k]     = d_beam_ghosted_[g];
+            if (k < 3)
+              line_load[n][k] = lambda_ghosted[g];
+          }
+      const std::string stem = "beams_" + Utilities::int_to_string(step, 4);
+      auto piece = [&](unsigned int r) { return stem + "." + std::to_string(r) + ".vtu"; };
+      if (!beam_.mesh.elements.empty())
+        write_beam_vtu(beam_.mesh, dofs, line_load, p_.output_directory + "/" + piece(rank_));
+      // The record names the pieces of the ranks with elements; all of them exist before it does.
+      const auto elements_per_rank = Utilities::MPI::gather(comm_, beam_.mesh.elements.size());
       if (rank_ == 0)
         {
-          std::vector<std::array<double, 3>> line_load(gaps.size());
-          for (std::size_t j = 0; j < gaps.size(); ++j)
-            for (int c = 0; c < 3; ++c)
-              line_load[j][c] = coupling_->kappa()[j] > 0 ? p_.penalty / coupling_->kappa()[j] * gaps[j][c] : 0.0;
-          const std::string name = "beams_" + Utilities::int_to_string(step, 4) + ".vtu";
-          write_beam_vtu(beam_, d_beam_, line_load, p_.output_directory + "/" + name);
-          beam_pvd_->add(step, name);
+          std::vector<std::string> pieces;
+          for (unsigned int r = 0; r < n_ranks_; ++r)
+            if (elements_per_rank[r] > 0)
+              pieces.push_back(piece(r));
+          write_beam_pvtu(pieces, p_.output_directory + "/" + stem + ".pvtu");
+          beam_pvd_->add(step, stem + ".pvtu");
         }
     }
   } // namespace

@@ -65,7 +65,9 @@ namespace physics::beam_solid
     /// Final state: the loaded face's mean x displacement and the largest beam/solid gap.
     double mean_end_displacement = 0, max_gap = 0;
     double solid_displacement_l2 = 0, beam_displacement_l2 = 0; ///< ||d_S||, ||d_B|| (global vector norms)
-    std::vector<double> beam_displacement; ///< all beam DOFs (6 per node)
+    /// This rank's beam DOFs (6 per owned node, beam_partition.h), from global DOF beam_first_dof.
+    std::vector<double> beam_displacement;
+    long long           beam_first_dof = 0;
   };
 
   BeamSolidRunSummary run_beam_solid(const BeamSolidParameters& parameters, MPI_Comm comm);
