@@ -71,7 +71,10 @@ int main(int argc, char** argv)
                   << summary.fluid_dofs << ", ALE " << summary.ale_dofs << " DOFs; setup "
                   << summary.setup_seconds << " s, solve " << summary.solve_seconds
                   << " s; largest wall displacement " << std::setprecision(12) << wall << "; "
-                  << (summary.converged ? "converged" : "NOT converged") << "\n";
+                  << (summary.converged ? "converged" : "NOT converged") << "\n"
+                  << std::setprecision(16) << "Displacement norms: structure l2 " << summary.structure_l2
+                  << ", max " << summary.structure_max << ", ALE l2 " << summary.ale_l2 << ", fluid l2 "
+                  << summary.fluid_l2 << "\n";
       }
     return summary.converged ? 0 : 1;
   });
