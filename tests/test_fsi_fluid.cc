@@ -441,10 +441,9 @@ namespace
 
   TEST(FsiFluid, FullyDistributedMeshesGiveTheSameFlow)
   {
-    // The Dirichlet data (velocity on the whole boundary, a pressure point, the pseudo-elastic
-    // mesh's walls) come from the DOFs' owners: on a fully distributed mesh the ghost layer's
-    // outer faces look like boundary faces, which must not be constrained. Poiseuille on both
-    // kinds of mesh gives the same errors; the uniform state on a pseudo-elastic moving mesh stays.
+    // The fluid alone on a fully distributed mesh (its Dirichlet data, a pressure point and the
+    // pseudo-elastic mesh's walls from the DOFs' owners, as on every such mesh): Poiseuille gives
+    // the errors of parallel::distributed, the uniform state on a pseudo-elastic moving mesh stays.
     const double U = 1.0, H = 1.0, L = 2.0, mu = 0.1;
     auto         exact = std::make_shared<Poiseuille>(U, H, L, mu);
     std::vector<physics::fsi::FlowErrors> errors;
@@ -469,8 +468,7 @@ namespace
     // The two meshes are partitioned differently (p4est / METIS), and the fluid alone's solution
     // depends on the partition at 1e-8 (velocity) and 1e-6 (pressure) relative even on
     // parallel::distributed alone (1 and 2 ranks, also before the fully distributed meshes, not
-    // yet explained), so equal to 1e-5 here; on 1 rank they agree to 12 digits. Constraining the
-    // ghost layer's outer faces would change the errors by the discretization error.
+    // yet explained), so equal to 1e-5 here; on 1 rank they agree to 12 digits.
     EXPECT_GT(errors[0].velocity_l2, 0.0);
     EXPECT_NEAR(errors[1].velocity_l2, errors[0].velocity_l2, 1e-5 * errors[0].velocity_l2);
     EXPECT_NEAR(errors[1].velocity_h1, errors[0].velocity_h1, 1e-5 * errors[0].velocity_h1);
