@@ -381,8 +381,9 @@ namespace
   void check_uniform_state_preserved(Tensor<1, 2> V, FluidTimeScheme scheme, bool pseudo_elastic,
                                      bool fully_distributed = false)
   {
-    const auto tria = distributed(
-        [](Triangulation<2>& t) { GridGenerator::subdivided_hyper_cube(t, 6, 0.0, 1.0, true); }, fully_distributed);
+    const auto tria =
+        distributed([](Triangulation<2>& t) { GridGenerator::subdivided_hyper_cube(t, 6, 0.0, 1.0, true); },
+                    fully_distributed);
     FluidFlowSetup<2> s;
     s.model.properties = {1.0, 0.01};
     s.model.scheme     = scheme;
@@ -444,12 +445,13 @@ namespace
     // The fluid alone on a fully distributed mesh (its Dirichlet data, a pressure point and the
     // pseudo-elastic mesh's walls from the DOFs' owners, as on every such mesh): Poiseuille gives
     // the errors of parallel::distributed, the uniform state on a pseudo-elastic moving mesh stays.
-    const double U = 1.0, H = 1.0, L = 2.0, mu = 0.1;
-    auto         exact = std::make_shared<Poiseuille>(U, H, L, mu);
+    const double                          U = 1.0, H = 1.0, L = 2.0, mu = 0.1;
+    auto                                  exact = std::make_shared<Poiseuille>(U, H, L, mu);
     std::vector<physics::fsi::FlowErrors> errors;
     for (const bool fully_distributed : {false, true})
       {
-        const auto tria = distributed([&](Triangulation<2>& t) { channel(t, 16, 8, L, H); }, fully_distributed);
+        const auto tria =
+            distributed([&](Triangulation<2>& t) { channel(t, 16, 8, L, H); }, fully_distributed);
         FluidFlowSetup<2> s;
         s.model.properties = {1.0, mu};
         for (types::boundary_id b = 0; b < 4; ++b)
@@ -463,8 +465,7 @@ namespace
     if (root())
       std::cout << "Poiseuille 16 x 8, parallel::distributed / fully distributed: ||u - u_h|| = "
                 << std::setprecision(12) << errors[0].velocity_l2 << " / " << errors[1].velocity_l2
-                << ", ||p - p_h|| = " << errors[0].pressure_l2
-                << " / " << errors[1].pressure_l2 << "\n";
+                << ", ||p - p_h|| = " << errors[0].pressure_l2 << " / " << errors[1].pressure_l2 << "\n";
     // The two meshes are partitioned differently (p4est / METIS), and the fluid alone's solution
     // depends on the partition at 1e-8 (velocity) and 1e-6 (pressure) relative even on
     // parallel::distributed alone (1 and 2 ranks, also before the fully distributed meshes, not

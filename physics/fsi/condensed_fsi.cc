@@ -49,8 +49,8 @@ namespace physics::fsi
     // own (common/distributed_mesh.h), so a rank stores only its cells and their ghost layer.
     const unsigned nx = p_.cells_x, nf = p_.cells_fluid_y, nw = p_.cells_wall_y;
     create_distributed_mesh<dim>(fluid_tria_, [&](Triangulation<dim>& fluid) {
-      GridGenerator::subdivided_hyper_rectangle(fluid, {nx, nf}, Point<dim>(), Point<dim>(p_.length, p_.height),
-                                                true);
+      GridGenerator::subdivided_hyper_rectangle(fluid, {nx, nf}, Point<dim>(),
+                                                Point<dim>(p_.length, p_.height), true);
     });
     create_distributed_mesh<dim>(solid_tria_, [&](Triangulation<dim>& solid) {
       Triangulation<dim> lower, upper;
@@ -189,12 +189,12 @@ namespace physics::fsi
   {
     // Every rank's owned interface nodes of the three fields, gathered everywhere
     // (interface_nodes.h); fluid velocities and ALE displacements matched to structure nodes.
-    const auto solid_nodes = gather_interface_nodes(solid_dofs_, dim, on_interface, comm_);
-    const auto fluid_nodes = gather_interface_nodes(fluid_dofs_, dim, on_interface, comm_);
-    const auto mesh_nodes  = gather_interface_nodes(mesh_dofs_, dim, on_interface, comm_);
-    const double tol       = 1e-9 * p_.length;
-    fluid_partner_         = match_interface_nodes(fluid_nodes, solid_nodes, tol);
-    mesh_partner_          = match_interface_nodes(mesh_nodes, solid_nodes, tol);
+    const auto   solid_nodes = gather_interface_nodes(solid_dofs_, dim, on_interface, comm_);
+    const auto   fluid_nodes = gather_interface_nodes(fluid_dofs_, dim, on_interface, comm_);
+    const auto   mesh_nodes  = gather_interface_nodes(mesh_dofs_, dim, on_interface, comm_);
+    const double tol         = 1e-9 * p_.length;
+    fluid_partner_           = match_interface_nodes(fluid_nodes, solid_nodes, tol);
+    mesh_partner_            = match_interface_nodes(mesh_nodes, solid_nodes, tol);
     // The clamped interface DOFs (the walls' end nodes) of every rank: partners of fluid DOFs
     // on ranks whose structure part does not reach them.
     std::vector<GlobalIndex> clamped;

@@ -88,8 +88,8 @@ namespace physics::fsi
     dealii::TimerOutput        timer_;
 
     dealii::parallel::fullydistributed::Triangulation<dim> fluid_tria_, solid_tria_;
-    dealii::FESystem<dim>                        fluid_fe_, vector_fe_;
-    dealii::DoFHandler<dim>                      fluid_dofs_, mesh_dofs_, solid_dofs_;
+    dealii::FESystem<dim>                                  fluid_fe_, vector_fe_;
+    dealii::DoFHandler<dim>                                fluid_dofs_, mesh_dofs_, solid_dofs_;
     dealii::IndexSet fluid_owned_, fluid_relevant_, mesh_owned_, mesh_relevant_, solid_owned_,
         solid_relevant_, solid_ghosts_;
     std::vector<dealii::IndexSet>          solid_owned_per_rank_;

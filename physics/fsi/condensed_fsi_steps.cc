@@ -212,8 +212,8 @@ namespace physics::fsi
            << Utilities::MPI::max(fluid_tria_.n_active_cells(), comm_) << " stored on a rank), structure "
            << solid_tria_.n_global_active_cells() << " cells (at most "
            << Utilities::MPI::max(solid_tria_.n_active_cells(), comm_)
-           << " stored on a rank); Newton system: structure " << n_solid_
-           << ", fluid " << n_fluid_ << ", ALE " << n_mesh_ << " DOFs (" << fluid_partner_.size()
+           << " stored on a rank); Newton system: structure " << n_solid_ << ", fluid " << n_fluid_
+           << ", ALE " << n_mesh_ << " DOFs (" << fluid_partner_.size()
            << " interface velocity DOFs condensed), shape derivatives "
            << (p_.shape_derivatives ? "on" : "off") << ", " << Utilities::MPI::n_mpi_processes(comm_)
            << " ranks, preset " << p_.solver.preset << "\n";

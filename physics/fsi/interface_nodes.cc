@@ -15,7 +15,7 @@ namespace physics::fsi
   template <int dim>
   InterfaceNodes<dim> gather_interface_nodes(const DoFHandler<dim>& dofs, unsigned int components,
                                              const std::function<bool(types::boundary_id)>& on_interface,
-                                             MPI_Comm comm)
+                                             MPI_Comm                                       comm)
   {
     // This rank's owned interface vertices: coordinates (dim per node) and DOFs (components
     // per node), flat so that the all-gather sends plain arrays.
@@ -83,10 +83,12 @@ namespace physics::fsi
     return partner;
   }
 
-  template InterfaceNodes<2> gather_interface_nodes<2>(const DoFHandler<2>&, unsigned int,
-                                                       const std::function<bool(types::boundary_id)>&, MPI_Comm);
-  template InterfaceNodes<3> gather_interface_nodes<3>(const DoFHandler<3>&, unsigned int,
-                                                       const std::function<bool(types::boundary_id)>&, MPI_Comm);
+  template InterfaceNodes<2>                  gather_interface_nodes<2>(const DoFHandler<2>&, unsigned int,
+                                                       const std::function<bool(types::boundary_id)>&,
+                                                       MPI_Comm);
+  template InterfaceNodes<3>                  gather_interface_nodes<3>(const DoFHandler<3>&, unsigned int,
+                                                       const std::function<bool(types::boundary_id)>&,
+                                                       MPI_Comm);
   template std::map<GlobalIndex, GlobalIndex> match_interface_nodes<2>(const InterfaceNodes<2>&,
                                                                        const InterfaceNodes<2>&, double);
   template std::map<GlobalIndex, GlobalIndex> match_interface_nodes<3>(const InterfaceNodes<3>&,

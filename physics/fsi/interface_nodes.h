@@ -36,9 +36,9 @@ namespace physics::fsi
   /// lie on an interface face of a ghost cell only); the outer faces of the ghost layer carry
   /// boundary id 0, which is never an interface id.
   template <int dim>
-  InterfaceNodes<dim> gather_interface_nodes(const dealii::DoFHandler<dim>& dofs, unsigned int components,
-                                             const std::function<bool(dealii::types::boundary_id)>& on_interface,
-                                             MPI_Comm comm);
+  InterfaceNodes<dim>
+  gather_interface_nodes(const dealii::DoFHandler<dim>& dofs, unsigned int components,
+                         const std::function<bool(dealii::types::boundary_id)>& on_interface, MPI_Comm comm);
 
   /// DOF of `from` -> DOF of `to` at the same position (coordinates equal to `tolerance`), one
   /// pair per component. Throws std::invalid_argument (the same on every rank, since the input
