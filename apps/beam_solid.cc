@@ -5,13 +5,7 @@
 //   mpirun -np 2 beam_solid apps/beam_solid_cube.prm
 //   beam_solid --print-parameters      (all parameters with their documentation)
 #include "beam_solid/beam_solid_problem.h"
-#include "common/app_parameters.h"
-#include "common/run_directory.h"
-#include "trilinos_scope.h"
-#include "types.h"
-
-#include <deal.II/base/mpi.h>
-
+#include "common/app_main.h"
 
 #include <iomanip>
 #include <iostream>
@@ -35,37 +29,16 @@ Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 
 int main(int argc, char** argv)
 {
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  multigrid::TrilinosScope                 tpetra(argv);
-  const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-  dealii::ParameterHandler prm;
-  physics::beam_solid::BeamSolidParameters::declare(prm);
-  return physics::run_app("beam_solid", root, [&]() {
-      if (!physics::read_command_line(argc, argv, usage, prm, root))
-        return 0;
-      physics::beam_solid::BeamSolidParameters p;
-      p.parse(prm);
-      // The run's directory with the parameters it really uses (every entry, defaults included).
-      physics::prepare_output_directory(p.output_directory, MPI_COMM_WORLD);
-      physics::write_used_parameters(prm, p.output_directory, MPI_COMM_WORLD);
-      const auto summary = physics::beam_solid::run_beam_solid(p, MPI_COMM_WORLD);
-      if (root)
-        {
-          int total_newton = 0, total_linear = 0;
-          for (int n : summary.newton_iterations)
-            total_newton += n;
-          for (int n : summary.linear_iterations)
-            total_linear += n;
-          std::cout << "Summary: " << summary.newton_iterations.size() << " load steps, " << total_newton
-                    << " Newton steps, GMRES iterations per Newton step "
-                    << (summary.linear_iterations.empty() ? 0.0 : double(total_linear) / summary.linear_iterations.size())
-                    << "; setup " << summary.setup_seconds << " s, solve " << summary.solve_seconds << " s; "
-                    << (summary.converged ? "converged" : "NOT converged") << "\n"
-                    << "Mean x displacement of the loaded face " << summary.mean_end_displacement
-                    << ", largest beam/solid gap " << summary.max_gap << "\n"
-                    << std::setprecision(16) << "Displacement norms: solid " << summary.solid_displacement_l2
-                    << ", beam " << summary.beam_displacement_l2 << "\n";
-        }
-      return summary.converged ? 0 : 1;
-    });
+  using physics::beam_solid::BeamSolidParameters;
+  return physics::app_main<BeamSolidParameters>(argc, argv, "beam_solid", usage,
+                                                [](const BeamSolidParameters& p, bool root) {
+    const auto summary = physics::beam_solid::run_beam_solid(p, MPI_COMM_WORLD);
+    if (root)
+      std::cout << summary.summary_line("load") << "\n"
+                << "Mean x displacement of the loaded face " << summary.mean_end_displacement
+                << ", largest beam/solid gap " << summary.max_gap << "\n"
+                << std::setprecision(16) << "Displacement norms: solid " << summary.solid_displacement_l2 << ", beam "
+                << summary.beam_displacement_l2 << "\n";
+    return summary.converged ? 0 : 1;
+  });
 }

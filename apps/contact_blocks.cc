@@ -3,17 +3,11 @@
 //
 //   mpirun -np 2 contact_blocks apps/contact_blocks_2d.prm
 //   contact_blocks --print-parameters      (all parameters with their documentation)
-#include "common/app_parameters.h"
-#include "common/run_directory.h"
+#include "common/app_main.h"
 #include "contact/contact_problem.h"
 #include "temporary_files.h"
-#include "trilinos_scope.h"
-#include "types.h"
 
-#include <deal.II/base/mpi.h>
-#include <deal.II/base/utilities.h>
-
-
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -37,67 +31,56 @@ Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 )USAGE";
 }
 
+namespace
+{
+  /// The final slave-node state as CSV (for postprocessing, e.g. the Hertz comparison), written
+  /// to a temporary and renamed so that an interrupted run leaves no partial file.
+  void write_contact_nodes(const physics::contact::ContactRunSummary& summary, const std::string& csv)
+  {
+    const std::string tmp = multigrid::unique_temporary_name(csv);
+    {
+      std::ofstream out(tmp);
+      out << "x,y,z,contact_pressure,weight,active\n" << std::setprecision(12);
+      for (std::size_t j = 0; j < summary.active.size(); ++j)
+        out << summary.slave_positions[j][0] << "," << summary.slave_positions[j][1] << ","
+            << summary.slave_positions[j][2] << "," << summary.normal_pressure[j] << "," << summary.weight[j] << ","
+            << (summary.active[j] ? 1 : 0) << "\n";
+    }
+    std::filesystem::rename(tmp, csv);
+  }
+
+  void print_contact_state(const physics::contact::ContactRunSummary& summary)
+  {
+    double p_min = 0, p_max = 0, force = 0;
+    int    n_active = 0;
+    for (std::size_t j = 0; j < summary.active.size(); ++j)
+      if (summary.active[j])
+        {
+          const double pn = summary.normal_pressure[j];
+          p_min           = n_active == 0 ? pn : std::min(p_min, pn);
+          p_max           = n_active == 0 ? pn : std::max(p_max, pn);
+          force += summary.weight[j] * pn;
+          ++n_active;
+        }
+    std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
+              << ", total normal force " << force << "\n"
+              << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "
+              << summary.max_displacement << "\n";
+  }
+} // namespace
+
 int main(int argc, char** argv)
 {
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  multigrid::TrilinosScope                 tpetra(argv);
-  const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-  dealii::ParameterHandler prm;
-  physics::contact::ContactParameters::declare(prm);
-  return physics::run_app("contact_blocks", root, [&]() {
-      if (!physics::read_command_line(argc, argv, usage, prm, root))
-        return 0;
-      physics::contact::ContactParameters p;
-      p.parse(prm);
-      // The run's directory with the parameters it really uses (every entry, defaults included).
-      physics::prepare_output_directory(p.output_directory, MPI_COMM_WORLD);
-      physics::write_used_parameters(prm, p.output_directory, MPI_COMM_WORLD);
-      const auto summary = physics::contact::run_contact(p, MPI_COMM_WORLD);
-      if (root)
-        {
-          int total_newton = 0, total_linear = 0, max_linear = 0;
-          for (int n : summary.newton_iterations)
-            total_newton += n;
-          for (int n : summary.linear_iterations)
-            {
-              total_linear += n;
-              max_linear = std::max(max_linear, n);
-            }
-          std::cout << "Summary: " << summary.load_steps_done << " load steps, " << total_newton
-                    << " Newton steps, GMRES iterations per Newton step: average "
-                    << (summary.linear_iterations.empty() ? 0.0
-                                                          : double(total_linear) / summary.linear_iterations.size())
-                    << ", max " << max_linear << "; setup " << summary.setup_seconds << " s, solve "
-                    << summary.solve_seconds << " s; " << (summary.converged ? "converged" : "NOT converged")
-                    << "\n";
-          double p_min = 0, p_max = 0, force = 0;
-          int    n_active = 0;
-          for (std::size_t j = 0; j < summary.active.size(); ++j)
-            if (summary.active[j])
-              {
-                const double pn = summary.normal_pressure[j];
-                p_min           = n_active == 0 ? pn : std::min(p_min, pn);
-                p_max           = n_active == 0 ? pn : std::max(p_max, pn);
-                force += summary.weight[j] * pn;
-                ++n_active;
-              }
-          // Final slave-node state as CSV (for postprocessing, e.g. the Hertz comparison).
-          const std::string csv = p.output_directory + "/contact_nodes.csv";
-          const std::string tmp = multigrid::unique_temporary_name(csv);
-          {
-            std::ofstream out(tmp);
-            out << "x,y,z,contact_pressure,weight,active\n" << std::setprecision(12);
-            for (std::size_t j = 0; j < summary.active.size(); ++j)
-              out << summary.slave_positions[j][0] << "," << summary.slave_positions[j][1] << ","
-                  << summary.slave_positions[j][2] << "," << summary.normal_pressure[j] << "," << summary.weight[j]
-                  << "," << (summary.active[j] ? 1 : 0) << "\n";
-          }
-          std::filesystem::rename(tmp, csv);
-          std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
-                    << ", total normal force " << force << "\n"
-                    << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "
-                    << summary.max_displacement << "\n";
-        }
-      return summary.converged ? 0 : 1;
-    });
+  using physics::contact::ContactParameters;
+  return physics::app_main<ContactParameters>(argc, argv, "contact_blocks", usage,
+                                              [](const ContactParameters& p, bool root) {
+    const auto summary = physics::contact::run_contact(p, MPI_COMM_WORLD);
+    if (root)
+      {
+        std::cout << summary.summary_line(p.dynamic() ? "time" : "load") << "\n";
+        write_contact_nodes(summary, p.output_directory + "/contact_nodes.csv");
+        print_contact_state(summary);
+      }
+    return summary.converged ? 0 : 1;
+  });
 }

@@ -7,16 +7,13 @@
 //
 //   mpirun -np 2 fsi apps/fsi_channel_2d.prm
 //   fsi --print-parameters      (all parameters with their documentation)
-#include "common/app_parameters.h"
-#include "common/run_directory.h"
+#include "common/app_main.h"
 #include "fsi/condensed_fsi.h"
-#include "trilinos_scope.h"
-
-#include <deal.II/base/mpi.h>
 
 #include <algorithm>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace
 {
@@ -40,38 +37,17 @@ Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 
 int main(int argc, char** argv)
 {
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  multigrid::TrilinosScope                 tpetra(argv);
-  const bool               root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-  dealii::ParameterHandler prm;
-  physics::fsi::FsiParameters::declare(prm);
-  return physics::run_app("fsi", root, [&]() {
-    if (!physics::read_command_line(argc, argv, usage, prm, root))
-      return 0;
-    physics::fsi::FsiParameters p;
-    p.parse(prm);
-    physics::prepare_output_directory(p.output_directory, MPI_COMM_WORLD);
-    physics::write_used_parameters(prm, p.output_directory, MPI_COMM_WORLD);
+  using physics::fsi::FsiParameters;
+  return physics::app_main<FsiParameters>(argc, argv, "fsi", usage, [](const FsiParameters& p, bool root) {
     const auto summary = physics::fsi::run_condensed_fsi(p, MPI_COMM_WORLD);
     if (root)
       {
-        int total_newton = 0;
-        for (int n : summary.newton_iterations)
-          total_newton += n;
-        const double wall = summary.max_wall_displacement.empty()
-                                ? 0.0
-                                : *std::max_element(summary.max_wall_displacement.begin(),
-                                                    summary.max_wall_displacement.end());
-        std::cout << "Summary: " << summary.newton_iterations.size() << " time steps, " << total_newton
-                  << " Newton steps ("
-                  << (summary.newton_iterations.empty()
-                          ? 0.0
-                          : double(total_newton) / summary.newton_iterations.size())
-                  << " per step); system: structure " << summary.structure_dofs << ", fluid "
-                  << summary.fluid_dofs << ", ALE " << summary.ale_dofs << " DOFs; setup "
-                  << summary.setup_seconds << " s, solve " << summary.solve_seconds
-                  << " s; largest wall displacement " << std::setprecision(12) << wall << "; "
-                  << (summary.converged ? "converged" : "NOT converged") << "\n"
+        const auto&  wall    = summary.max_wall_displacement;
+        const double largest = wall.empty() ? 0.0 : *std::max_element(wall.begin(), wall.end());
+        std::ostringstream extra;
+        extra << "system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs << ", ALE "
+              << summary.ale_dofs << " DOFs; largest wall displacement " << std::setprecision(12) << largest;
+        std::cout << summary.summary_line("time", extra.str()) << "\n"
                   << std::setprecision(16) << "Displacement norms: structure l2 " << summary.structure_l2
                   << ", max " << summary.structure_max << ", ALE l2 " << summary.ale_l2 << ", fluid l2 "
                   << summary.fluid_l2 << "\n";

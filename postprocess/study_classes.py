@@ -70,7 +70,7 @@ class BeamSolid:
     @classmethod
     def settings(cls, n, data_dir):
         f = cls.fibres(n)
-        return {"Solid/Cells": f"{2 * n}, {n}, {n}", "Fibres/Fibres in y": str(f), "Fibres/Fibres in z": str(f),
+        return {"Mesh/Cells": f"{2 * n}, {n}, {n}", "Fibres/Fibres in y": str(f), "Fibres/Fibres in z": str(f),
                 "Fibres/Elements per fibre": str(2 * n)}
 
     @classmethod

@@ -50,7 +50,7 @@ def run(build, ranks, level, name, out_root):
     directory = os.path.join(out_root, f"r{level}_{name.replace('(', '_').replace(')', '')}")
     r = level
     cmd = [os.path.join(build, "apps", "beam_solid"), "apps/beam_solid_block.prm",
-           "--set", f"Solid/Cells={8 * r}, {4 * r}, {4 * r}", "--set", f"Fibres/Fibres in y={2 * r}",
+           "--set", f"Mesh/Cells={8 * r}, {4 * r}, {4 * r}", "--set", f"Fibres/Fibres in y={2 * r}",
            "--set", f"Fibres/Fibres in z={2 * r}", "--set", f"Fibres/Elements per fibre={8 * r}",
            "--set", f"Linear solver/Preset={preset}", "--set", f"Linear solver/Overrides={';'.join(overrides)}",
            "--set", "Output/VTK=false", "--set", f"Output/Directory={directory}"]

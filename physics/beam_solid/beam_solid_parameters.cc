@@ -7,7 +7,6 @@
 namespace physics::beam_solid
 {
   using dealii::Patterns::Anything;
-  using dealii::Patterns::Bool;
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
   using dealii::Patterns::Selection;
@@ -17,12 +16,14 @@ namespace physics::beam_solid
 
   void BeamSolidParameters::declare(dealii::ParameterHandler& prm)
   {
-    prm.enter_subsection("Solid");
-    prm.declare_entry("Size", "1, 1, 1", Anything(), "Edge lengths of the box [0, a] x [0, b] x [0, c] in m (> 0).");
+    const BeamSolidParameters d;
+    prm.enter_subsection("Mesh");
+    prm.declare_entry("Size", "1, 1, 1", Anything(),
+                      "The solid is the generated box [0, a] x [0, b] x [0, c]: edge lengths in m (> 0).");
     prm.declare_entry("Cells", "4, 4, 4", Anything(), "Hexahedra per edge (3 integers >= 1).");
-    prm.declare_entry("Young's modulus", "1", Double(), "E_S in N/m^2 (> 0), Saint Venant-Kirchhoff.");
-    prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu_S (-1 < nu < 0.5).");
     prm.leave_subsection();
+
+    MaterialParameters::declare(prm, d, "the solid block", "N/m^2", "", false);
 
     prm.enter_subsection("Fibres");
     prm.declare_entry("Beam file", "", dealii::Patterns::FileName(dealii::Patterns::FileName::FileType::input),
@@ -61,20 +62,14 @@ namespace physics::beam_solid
     prm.declare_entry("Load steps", "1", Integer(1, 10000), "Equal load increments.");
     prm.leave_subsection();
 
-    BeamSolidParameters().solver.declare(prm, residual_fields());
+    d.solver.declare(prm, residual_fields());
 
-    prm.enter_subsection("Output");
-    prm.declare_entry("Directory", "output/beam_solid", Anything(),
-                      "Run log (run_log.jsonl), VTK (solid.pvd, beams.pvd), exported systems.");
-    prm.declare_entry("VTK", "true", Bool(), "Write the solid (pvtu) and the beams (vtu) per load step.");
-    prm.declare_entry("Export systems", "false", Bool(),
-                      "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN.");
-    prm.leave_subsection();
+    OutputParameters::declare(prm, d, "VTK (solid.pvd with a pvtu per step, beams.pvd with a vtu per step)");
   }
 
   void BeamSolidParameters::parse(dealii::ParameterHandler& prm)
   {
-    prm.enter_subsection("Solid");
+    prm.enter_subsection("Mesh");
     size = numbers(prm.get("Size"), "Size", 3);
     for (const double v : size)
       positive(v, "Size");
@@ -85,9 +80,9 @@ namespace physics::beam_solid
           throw std::invalid_argument("parameter 'Cells': expected integers >= 1, got " + std::to_string(v));
         cells.push_back(static_cast<int>(v));
       }
-    solid_youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Solid)");
-    solid_poisson_ratio  = parameters::poisson_ratio(prm.get_double("Poisson's ratio"));
     prm.leave_subsection();
+
+    MaterialParameters::parse(prm, false);
 
     prm.enter_subsection("Fibres");
     beam_file          = prm.get("Beam file");
@@ -116,10 +111,6 @@ namespace physics::beam_solid
 
     solver.parse(prm, residual_fields());
 
-    prm.enter_subsection("Output");
-    output_directory = prm.get("Directory");
-    vtk              = prm.get_bool("VTK");
-    export_systems   = prm.get_bool("Export systems");
-    prm.leave_subsection();
+    OutputParameters::parse(prm);
   }
 } // namespace physics::beam_solid

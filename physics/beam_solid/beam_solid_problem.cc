@@ -177,8 +177,8 @@ namespace physics::beam_solid
       pattern_.reinit(relevant_.size(), relevant_.size(), relevant_);
       DoFTools::make_sparsity_pattern(dof_handler_, pattern_, constraints_, false);
       SparsityTools::distribute_sparsity_pattern(pattern_, owned_, comm_, relevant_);
-      const auto lame = LameParameters::from_young_poisson(p_.solid_youngs_modulus, p_.solid_poisson_ratio);
-      model_.materials[0] = make_material<3>("SaintVenantKirchhoff", lame);
+      const auto lame = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
+      model_.materials[0] = make_material<3>(p_.law, lame);
 
       beam_ = p_.beam_file.empty()
                   ? generate_fibres(p_)
@@ -470,9 +470,9 @@ namespace physics::beam_solid
       summary.beam_displacement     = d_beam_;
     }
 
-    void BeamSolidProblem::write_output(int step, double /*time*/, bool /*last*/)
+    void BeamSolidProblem::write_output(int step, double /*time*/, bool last)
     {
-      if (!p_.vtk)
+      if (!p_.vtk_due(step, last))
         return;
       TimerOutput::Scope scope(timer_, "output");
       u_ghosted_ = u_;

@@ -7,6 +7,7 @@
 // solved by GMRES with a preset of multigrid/.
 #pragma once
 
+#include "common/parameter_sections.h"
 #include "common/solver_parameters.h"
 #include "common/step_driver.h"
 
@@ -19,12 +20,17 @@
 
 namespace physics::beam_solid
 {
-  struct BeamSolidParameters
+  /// Material (the solid) and Output come from the common sections.
+  struct BeamSolidParameters : MaterialParameters, OutputParameters
   {
-    // Solid: the box [0, size] with `cells` elements per edge (x: cells * aspect)
+    BeamSolidParameters()
+        : MaterialParameters{"SaintVenantKirchhoff", 1.0, 0.3} // N/m^2
+        , OutputParameters{"output/beam_solid"}
+    {
+    }
+    // Mesh: the solid is the box [0, size] with `cells` elements per edge
     std::vector<double> size{1.0, 1.0, 1.0};
     std::vector<int>    cells{4, 4, 4};
-    double              solid_youngs_modulus = 1.0, solid_poisson_ratio = 0.3;
     // Fibres: a gmsh beam mesh (msh 2.2 lines, or a .geo meshed in 1D with `refine` =
     // beam_refinement), or else a grid of ny x nz straight fibres along x through the box
     std::string beam_file;
@@ -42,9 +48,6 @@ namespace physics::beam_solid
     int                 load_steps = 1;
     // Newton and linear solver
     SolverParameters solver{1e-6, 1e-12, 20, "direct(superlu)", {}, 1e-8, 1000, 200};
-    // Output
-    std::string output_directory = "output/beam_solid";
-    bool        vtk = true, export_systems = false;
 
     /// The residual fields Newton checks separately (Newton subsections of the same names):
     /// generalized forces on the beam DOFs (positions and tangents), forces on the solid DOFs.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace physics
 {
@@ -116,5 +117,24 @@ namespace physics
         setup_seconds += n.setup_seconds;
         solve_seconds += n.solve_seconds;
       }
+  }
+
+  std::string RunSummary::summary_line(const std::string& steps, const std::string& extra) const
+  {
+    int total_newton = 0, total_linear = 0, max_linear = 0;
+    for (const int n : newton_iterations)
+      total_newton += n;
+    for (const int n : linear_iterations)
+      {
+        total_linear += n;
+        max_linear = std::max(max_linear, n);
+      }
+    std::ostringstream line;
+    line << "Summary: " << load_steps_done << " " << steps << " steps, " << total_newton
+         << " Newton steps, GMRES iterations per Newton step: average "
+         << (linear_iterations.empty() ? 0.0 : double(total_linear) / linear_iterations.size()) << ", max "
+         << max_linear << "; setup " << setup_seconds << " s, solve " << solve_seconds << " s; "
+         << (extra.empty() ? "" : extra + "; ") << (converged ? "converged" : "NOT converged");
+    return line.str();
   }
 } // namespace physics

@@ -71,6 +71,10 @@ namespace physics
 
     /// Fills every field from the driver's result.
     void record(const StepsResult& result);
+    /// The apps' closing line, the same in every app (tests and scripts match it):
+    ///   "Summary: N <steps> steps, M Newton steps, GMRES iterations per Newton step: average A,
+    ///    max X; setup S s, solve T s[; <extra>]; converged" (or "NOT converged").
+    std::string summary_line(const std::string& steps, const std::string& extra = "") const;
   };
 
   /// Runs all steps. Every attempt's log lines carry "load_step" (the number the step gets when it

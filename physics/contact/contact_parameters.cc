@@ -11,23 +11,18 @@
 namespace physics::contact
 {
   using dealii::Patterns::Anything;
-  using dealii::Patterns::Bool;
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
   using dealii::Patterns::Selection;
 
   void ContactParameters::declare(dealii::ParameterHandler& prm)
   {
+    const ContactParameters d;
     prm.enter_subsection("Mesh");
-    prm.declare_entry("Mesh file", "meshes/two_blocks_2d.geo",
-                      dealii::Patterns::FileName(dealii::Patterns::FileName::FileType::input),
-                      "gmsh .geo source (meshed on the fly with -setnumber refine N) or .msh file; written in a "
-                      ".prm file: relative to that file's directory, given with --set (and this default): relative "
-                      "to the working directory. Physical volumes (2D: surfaces) give the bodies, physical surfaces (2D: "
-                      "lines) the boundary ids below. Quadrilaterals/hexahedra.");
+    MeshParameters::declare_entries(prm, d,
+                                    "Physical volumes (2D: surfaces) give the bodies, physical surfaces (2D: lines) "
+                                    "the boundary ids below.");
     prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension of the mesh.");
-    prm.declare_entry("Gmsh refinement", "1", Integer(1, 64), "Value of the .geo variable 'refine'.");
-    prm.declare_entry("Global refinements", "0", Integer(0, 8), "Uniform refinements after reading the mesh.");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary ids");
@@ -41,13 +36,7 @@ namespace physics::contact
                       "'5:0, 6:1'. Empty: none.");
     prm.leave_subsection();
 
-    prm.enter_subsection("Material");
-    prm.declare_entry("Law", "NeoHooke", Selection("NeoHooke|SaintVenantKirchhoff"),
-                      "Hyperelastic law of both bodies (2D: plane strain).");
-    prm.declare_entry("Young's modulus", "10e6", Double(), "E in Pa (> 0).");
-    prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu (-1 < nu < 0.5).");
-    prm.declare_entry("Density", "1000", Double(), "Reference mass density in kg/m^3 (> 0; used by dynamics).");
-    prm.leave_subsection();
+    MaterialParameters::declare(prm, d, "both bodies", "Pa", "kg/m^3 (used by dynamics)", true);
 
     prm.enter_subsection("Loading");
     prm.declare_entry("Type", "displacement", Selection("displacement|pressure|none"),
@@ -84,17 +73,9 @@ namespace physics::contact
                       "Face bounding boxes are enlarged by this times the face size (>= 0).");
     prm.leave_subsection();
 
-    ContactParameters().solver.declare(prm, residual_fields());
+    d.solver.declare(prm, residual_fields());
 
-    prm.enter_subsection("Output");
-    prm.declare_entry("Directory", "output/contact", Anything(),
-                      "Run log (run_log.jsonl), VTK (solution.pvd + pvtu per load step), exported systems.");
-    prm.declare_entry("VTK", "true", Bool(), "Write solution_NNN.pvtu per load step and solution.pvd.");
-    prm.declare_entry("VTK interval", "1", Integer(1, 100000), "Write VTK every this many steps (and the last).");
-    prm.declare_entry("Export systems", "false", Bool(),
-                      "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN (for "
-                      "solve_block_system --system).");
-    prm.leave_subsection();
+    OutputParameters::declare(prm, d, "VTK (solution.pvd + pvtu per step), contact_nodes.csv");
   }
 
   using parameters::numbers;
@@ -104,10 +85,8 @@ namespace physics::contact
   void ContactParameters::parse(dealii::ParameterHandler& prm)
   {
     prm.enter_subsection("Mesh");
-    mesh_file          = prm.get("Mesh file");
-    dimension          = prm.get_integer("Dimension");
-    gmsh_refinement    = prm.get_integer("Gmsh refinement");
-    global_refinements = prm.get_integer("Global refinements");
+    parse_entries(prm);
+    dimension = prm.get_integer("Dimension");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary ids");
@@ -137,12 +116,7 @@ namespace physics::contact
       }
     prm.leave_subsection();
 
-    prm.enter_subsection("Material");
-    law            = prm.get("Law");
-    youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus");
-    poisson_ratio  = parameters::poisson_ratio(prm.get_double("Poisson's ratio"));
-    density        = positive(prm.get_double("Density"), "Density");
-    prm.leave_subsection();
+    MaterialParameters::parse(prm, true);
 
     prm.enter_subsection("Loading");
     load_type = prm.get("Type");
@@ -183,11 +157,6 @@ namespace physics::contact
 
     solver.parse(prm, residual_fields());
 
-    prm.enter_subsection("Output");
-    output_directory = prm.get("Directory");
-    vtk              = prm.get_bool("VTK");
-    export_systems   = prm.get_bool("Export systems");
-    vtk_interval     = prm.get_integer("VTK interval");
-    prm.leave_subsection();
+    OutputParameters::parse(prm);
   }
 } // namespace physics::contact

@@ -619,7 +619,7 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::write_output(int step, double time, bool last)
     {
-      if (!p_.vtk || !(step % p_.vtk_interval == 0 || last))
+      if (!p_.vtk_due(step, last))
         return;
       TimerOutput::Scope scope(timer_, "output");
       u_ghosted_ = u_;

@@ -4,6 +4,7 @@
 // system solved by GMRES with a block-AMG preset of multigrid/.
 #pragma once
 
+#include "common/parameter_sections.h"
 #include "common/solver_parameters.h"
 #include "common/step_driver.h"
 #include "contact/mortar_contact.h"
@@ -17,19 +18,19 @@
 
 namespace physics::contact
 {
-  struct ContactParameters
+  /// Mesh (file, refinements), Material (both bodies) and Output come from the common sections.
+  struct ContactParameters : MeshParameters, MaterialParameters, OutputParameters
   {
-    // Mesh
-    std::string mesh_file;               ///< .geo (meshed with gmsh) or .msh
-    int         gmsh_refinement    = 1;  ///< passed to gmsh as -setnumber refine N (.geo only)
-    int         global_refinements = 0;  ///< deal.II refinements after reading
-    int         dimension          = 2;
+    ContactParameters()
+        : MeshParameters{"meshes/two_blocks_2d.geo"}
+        , MaterialParameters{"NeoHooke", 10e6, 0.3, 1000} // Pa, kg/m^3
+        , OutputParameters{"output/contact"}
+    {
+    }
+    int dimension = 2;
     // Boundary and material ids
     int              slave_id = 1, master_id = 2, clamped_id = 3, loaded_id = 4;
     std::vector<int> symmetry; ///< pairs (boundary id, component) with zero normal displacement
-    // Material (both bodies)
-    std::string law           = "NeoHooke";
-    double      youngs_modulus = 10e6, poisson_ratio = 0.3;
     // Loading
     std::string         load_type = "displacement"; ///< displacement | pressure | none
     std::vector<double> displacement{0.0, -0.02};   ///< total prescribed displacement of the loaded face
@@ -38,7 +39,6 @@ namespace physics::contact
     // Time integration
     std::string         scheme = "quasi-static";    ///< quasi-static | generalized-alpha
     double              time_step = 1e-3, spectral_radius = 1.0;
-    double              density   = 1000;           ///< both bodies, kg/m^3 (dynamics)
     std::vector<double> initial_velocity;           ///< slave body (dynamics), empty: at rest
     // Contact
     bool   dual                   = true;
@@ -46,10 +46,6 @@ namespace physics::contact
     double search_radius_factor   = 1.0;
     // Newton and linear solver
     SolverParameters solver{1e-8, 1e-12, 30, "emin(cheapsimple)", {}, 1e-8, 500, 100};
-    // Output
-    std::string output_directory = "output/contact";
-    bool        vtk = true, export_systems = false;
-    int         vtk_interval = 1; ///< write VTK every this many steps (and the last)
 
     bool dynamic() const { return scheme == "generalized-alpha"; }
     /// The residual fields Newton checks separately (Newton subsections of the same names):

@@ -103,8 +103,8 @@ namespace physics::fsi
     // Structure: Saint Venant-Kirchhoff, clamped at both ends, generalized-alpha.
     make_boundary_constraints();
     const auto lame           = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
-    solid_model_.materials[0] = make_material<dim>("SaintVenantKirchhoff", lame);
-    solid_model_.densities[0] = p_.solid_density;
+    solid_model_.materials[0] = make_material<dim>(p_.law, lame);
+    solid_model_.densities[0] = p_.density;
     DynamicSparsityPattern solid_pattern(solid_relevant_);
     DoFTools::make_sparsity_pattern(solid_dofs_, solid_pattern, solid_constraints_, false);
     SparsityTools::distribute_sparsity_pattern(solid_pattern, solid_owned_, comm_, solid_relevant_);

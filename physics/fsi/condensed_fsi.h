@@ -31,6 +31,7 @@
 #pragma once
 
 #include "common/solver_parameters.h"
+#include "common/parameter_sections.h"
 #include "common/step_driver.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -45,15 +46,20 @@ namespace physics::fsi
   /// The 2D channel between two elastic walls (apps/fsi_channel_2d.prm): fluid in
   /// [0, L] x [0, H], walls [0, L] x [-t, 0] and [0, L] x [H, H + t] clamped at x = 0 and x = L,
   /// a pressure pulse on the inlet x = 0, the outlet x = L traction-free.
-  struct FsiParameters
+  /// Material (the walls) and Output come from the common sections.
+  struct FsiParameters : MaterialParameters, OutputParameters
   {
+    FsiParameters()
+        : MaterialParameters{"SaintVenantKirchhoff", 3e6, 0.3, 1.2} // dyn/cm^2, g/cm^3
+        , OutputParameters{"output/fsi"}
+    {
+    }
     // Geometry and mesh (matching nodes on the interface)
     double length = 6.0, height = 1.0, wall_thickness = 0.1; // cm
     int    cells_x = 30, cells_fluid_y = 6, cells_wall_y = 1;
     // Fluid
     double fluid_density = 1.0, fluid_viscosity = 0.03; // g/cm^3, P (CGS)
-    // Structure (Saint Venant-Kirchhoff)
-    double youngs_modulus = 3e6, poisson_ratio = 0.3, solid_density = 1.2; // dyn/cm^2, g/cm^3
+    // Structure: generalized-alpha
     double spectral_radius = 1.0;
     // ALE mesh
     double ale_poisson_ratio = 0.3, ale_stiffening = 1.0;
@@ -63,9 +69,6 @@ namespace physics::fsi
     bool   check_jacobian    = false; ///< testing: J v against central differences in step 2
     // Newton and linear solver
     SolverParameters solver{1e-6, 1e-10, 15, "direct(superlu)", {}, 1e-8, 500, 200};
-    // Output
-    std::string output_directory = "output/fsi";
-    bool        vtk = true, export_systems = false;
 
     static std::vector<std::string> residual_fields() { return {"structure", "fluid", "ale"}; }
     static void                     declare(dealii::ParameterHandler& prm);

@@ -154,9 +154,9 @@ namespace physics::fsi
     max_wall_displacement_.push_back(Utilities::MPI::max(largest, comm_));
   }
 
-  void CondensedFsi::write_output(int number, double time, bool /*last*/)
+  void CondensedFsi::write_output(int number, double time, bool last)
   {
-    if (!p_.vtk)
+    if (!p_.vtk_due(number, last))
       return;
     TimerOutput::Scope scope(timer_, "output");
     {

@@ -6,7 +6,6 @@
 
 namespace physics::fsi
 {
-  using dealii::Patterns::Anything;
   using dealii::Patterns::Bool;
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
@@ -15,7 +14,7 @@ namespace physics::fsi
   void FsiParameters::declare(dealii::ParameterHandler& prm)
   {
     const FsiParameters d;
-    prm.enter_subsection("Geometry");
+    prm.enter_subsection("Mesh");
     prm.declare_entry("Length", std::to_string(d.length), Double(), "Channel length L (> 0; CGS: cm).");
     prm.declare_entry("Height", std::to_string(d.height), Double(),
                       "Channel height H between the walls (> 0).");
@@ -34,14 +33,7 @@ namespace physics::fsi
     prm.declare_entry("Viscosity", "0.03", Double(), "Dynamic viscosity mu_F (> 0; CGS: P).");
     prm.leave_subsection();
 
-    prm.enter_subsection("Structure");
-    prm.declare_entry("Young's modulus", "3e6", Double(),
-                      "E_S (> 0; CGS: dyn/cm^2, 3e6 = 3e5 Pa), Saint Venant-Kirchhoff.");
-    prm.declare_entry("Poisson's ratio", "0.3", Double(), "nu_S (-1 < nu < 0.5).");
-    prm.declare_entry("Density", "1.2", Double(), "rho_S (> 0; CGS: g/cm^3).");
-    prm.declare_entry("Spectral radius", "1", Double(0, 1),
-                      "rho_inf of generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
-    prm.leave_subsection();
+    MaterialParameters::declare(prm, d, "the walls", "dyn/cm^2 (CGS; 3e6 = 3e5 Pa)", "g/cm^3 (CGS)", true);
 
     prm.enter_subsection("ALE mesh");
     prm.declare_entry("Poisson ratio", "0.3", Double(),
@@ -60,6 +52,8 @@ namespace physics::fsi
     prm.enter_subsection("Time");
     prm.declare_entry("Time step", "1e-4", Double(), "dt (> 0; s). Fluid BDF1, structure generalized-alpha.");
     prm.declare_entry("End time", "1e-3", Double(), "Final time (> 0; s).");
+    prm.declare_entry("Spectral radius", "1", Double(0, 1),
+                      "rho_inf of the structure's generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
@@ -74,21 +68,15 @@ namespace physics::fsi
 
     d.solver.declare(prm, residual_fields());
 
-    prm.enter_subsection("Output");
-    prm.declare_entry("Directory", d.output_directory, Anything(),
-                      "Run log (run_log.jsonl), VTK (fluid.pvd, structure.pvd), exported systems.");
-    prm.declare_entry("VTK", "true", Bool(), "Write the fluid and the structure (pvtu) per time step.");
-    prm.declare_entry("Export systems", "false", Bool(),
-                      "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN.");
-    prm.leave_subsection();
+    OutputParameters::declare(prm, d, "VTK (fluid.pvd and structure.pvd, a pvtu per step each)");
   }
 
   void FsiParameters::parse(dealii::ParameterHandler& prm)
   {
-    prm.enter_subsection("Geometry");
-    length         = positive(prm.get_double("Length"), "Length (Geometry)");
-    height         = positive(prm.get_double("Height"), "Height (Geometry)");
-    wall_thickness = positive(prm.get_double("Wall thickness"), "Wall thickness (Geometry)");
+    prm.enter_subsection("Mesh");
+    length         = positive(prm.get_double("Length"), "Length (Mesh)");
+    height         = positive(prm.get_double("Height"), "Height (Mesh)");
+    wall_thickness = positive(prm.get_double("Wall thickness"), "Wall thickness (Mesh)");
     cells_x        = prm.get_integer("Cells in x");
     cells_fluid_y  = prm.get_integer("Fluid cells in y");
     cells_wall_y   = prm.get_integer("Wall cells in y");
@@ -99,13 +87,7 @@ namespace physics::fsi
     fluid_viscosity = positive(prm.get_double("Viscosity"), "Viscosity (Fluid)");
     prm.leave_subsection();
 
-    prm.enter_subsection("Structure");
-    youngs_modulus = positive(prm.get_double("Young's modulus"), "Young's modulus (Structure)");
-    poisson_ratio =
-        parameters::poisson_ratio(prm.get_double("Poisson's ratio"), "Poisson's ratio (Structure)");
-    solid_density   = positive(prm.get_double("Density"), "Density (Structure)");
-    spectral_radius = prm.get_double("Spectral radius");
-    prm.leave_subsection();
+    MaterialParameters::parse(prm, true);
 
     prm.enter_subsection("ALE mesh");
     ale_poisson_ratio = prm.get_double("Poisson ratio");
@@ -123,6 +105,7 @@ namespace physics::fsi
     prm.enter_subsection("Time");
     time_step = positive(prm.get_double("Time step"), "Time step (Time)");
     end_time  = positive(prm.get_double("End time"), "End time (Time)");
+    spectral_radius = prm.get_double("Spectral radius");
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
@@ -132,10 +115,6 @@ namespace physics::fsi
 
     solver.parse(prm, residual_fields());
 
-    prm.enter_subsection("Output");
-    output_directory = prm.get("Directory");
-    vtk              = prm.get_bool("VTK");
-    export_systems   = prm.get_bool("Export systems");
-    prm.leave_subsection();
+    OutputParameters::parse(prm);
   }
 } // namespace physics::fsi
