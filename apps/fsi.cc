@@ -47,7 +47,10 @@ int main(int argc, char** argv)
         std::ostringstream extra;
         extra << "system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs << ", ALE "
               << summary.ale_dofs << " DOFs; largest wall displacement " << std::setprecision(12) << largest;
-        std::cout << summary.summary_line("time", extra.str()) << "\n";
+        std::cout << summary.summary_line("time", extra.str()) << "\n"
+                  << std::setprecision(16) << "Displacement norms: structure l2 " << summary.structure_l2
+                  << ", max " << summary.structure_max << ", ALE l2 " << summary.ale_l2 << ", fluid l2 "
+                  << summary.fluid_l2 << "\n";
       }
     return summary.converged ? 0 : 1;
   });

@@ -1,9 +1,15 @@
 #!/usr/bin/python3
-"""Runs the fsi app on 1 and on 2 ranks with the same parameters and checks that both runs take
-the same Newton steps in every time step (from run_log.jsonl) and end with the same largest wall
-displacement (the app's summary line) to a relative 1e-8. Exit status 0 if so, 1 otherwise.
+"""Runs the fsi app on several rank counts (default 1 and 2; oversubscribed where the machine has
+fewer cores) with the same parameters and checks that every run takes the same Newton steps in
+every time step (from run_log.jsonl) and ends with the same largest wall displacement (the app's
+summary line) and the same displacement norms (structure l2 and max, ALE l2, fluid l2; printed
+in full precision) as the first, to a relative 1e-8. With --distributed it also checks that the
+meshes are fully distributed: on more than one rank, the most cells a rank stores (the app's
+"N cells (at most M stored on a rank)") is below the number of cells, for the fluid and the
+structure. Exit status 0 if so, 1 otherwise.
 
-  check_fsi_ranks.py --app build/apps/fsi --mpiexec mpirun --prm apps/fsi_channel_2d.prm --out DIR [--set S/E=V]...
+  check_fsi_ranks.py --app build/apps/fsi --mpiexec mpirun --prm apps/fsi_channel_2d.prm --out DIR
+                     [--ranks 1 2 3] [--distributed] [--set S/E=V]...
 """
 import argparse
 import json
@@ -29,7 +35,11 @@ def run(args, ranks):
         entry = json.loads(line)
         if "newton" in entry and entry.get("converged"):
             steps[entry["load_step"]] = entry["newton"]
-    return float(match.group(1)), steps
+    cells = {field: (int(n), int(m)) for field, n, m in
+             re.findall(r"(fluid|structure) ([0-9]+) cells \(at most ([0-9]+) stored on a rank\)", result.stdout)}
+    norms = re.search(r"Displacement norms: structure l2 (\S+), max (\S+), ALE l2 (\S+), fluid l2 (\S+)", result.stdout)
+    norms = [float(v) for v in norms.groups()] if norms else None
+    return {"wall": float(match.group(1)), "steps": steps, "cells": cells, "norms": norms}
 
 
 def main():
@@ -38,20 +48,53 @@ def main():
     ap.add_argument("--mpiexec", required=True)
     ap.add_argument("--prm", required=True)
     ap.add_argument("--out", required=True)
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--distributed", action="store_true",
+                    help="also require fewer stored cells per rank than cells on more than one rank")
     ap.add_argument("--set", action="append", default=[])
     args = ap.parse_args()
-    one, two = run(args, 1), run(args, 2)
-    if one is None or two is None:
+    if len(args.ranks) < 2 and not args.distributed:
+        print("--ranks: expected at least two rank counts to compare")
         return 1
+    runs = {r: run(args, r) for r in args.ranks}
+    if any(result is None for result in runs.values()):
+        return 1
+    first = args.ranks[0]
+    reference = runs[first]
     failures = []
-    if not one[1] or one[1] != two[1]:
-        failures.append(f"Newton steps per time step differ: 1 rank {one[1]}, 2 ranks {two[1]}")
-    if not (abs(one[0] - two[0]) <= 1e-8 * abs(one[0]) and one[0] > 0):
-        failures.append(f"largest wall displacement differs: 1 rank {one[0]!r}, 2 ranks {two[0]!r}")
+    if not reference["steps"] or not reference["wall"] > 0:
+        failures.append(f"the run on {first} ranks took no converged step or did not move the wall")
+    for r in args.ranks[1:]:
+        if runs[r]["steps"] != reference["steps"]:
+            failures.append(f"Newton steps per time step differ: {first} ranks {reference['steps']}, "
+                            f"{r} ranks {runs[r]['steps']}")
+        if not abs(runs[r]["wall"] - reference["wall"]) <= 1e-8 * abs(reference["wall"]):
+            failures.append(f"largest wall displacement differs: {first} ranks {reference['wall']!r}, "
+                            f"{r} ranks {runs[r]['wall']!r}")
+        a, b = reference["norms"], runs[r]["norms"]
+        if a is None or b is None or any(not abs(x - y) <= 1e-8 * abs(x) for x, y in zip(a, b)):
+            failures.append(f"displacement norms (structure l2, max, ALE l2, fluid l2) differ or are missing: "
+                            f"{first} ranks {a}, {r} ranks {b}")
+    if args.distributed:
+        for r in args.ranks:
+            cells = runs[r]["cells"]
+            if set(cells) != {"fluid", "structure"}:
+                failures.append(f"the run on {r} ranks did not print 'N cells (at most M stored on a rank)' "
+                                f"for the fluid and the structure")
+            elif r > 1:
+                for field, (n, m) in cells.items():
+                    if not 0 < m < n:
+                        failures.append(f"{field} on {r} ranks: a rank stores {m} of the {n} cells")
     for f in failures:
         print(f)
+    for r in args.ranks:
+        print(f"{r} ranks: Newton steps {runs[r]['steps']}, wall displacement {runs[r]['wall']!r}, "
+              f"norms {runs[r]['norms']}, cells (total, most on a rank) {runs[r]['cells']}")
     if not failures:
-        print(f"1 and 2 ranks agree: Newton steps {one[1]}, wall displacement {one[0]!r}")
+        if len(args.ranks) > 1:
+            print(f"ranks {', '.join(map(str, args.ranks))} agree")
+        if args.distributed:
+            print("every rank stores fewer cells than the mesh has")
     return 1 if failures else 0
 
 

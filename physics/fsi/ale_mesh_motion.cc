@@ -1,5 +1,7 @@
 #include "fsi/ale_mesh_motion.h"
 
+#include "common/distributed_mesh.h"
+
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
@@ -8,7 +10,6 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/lac/trilinos_solver.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -108,10 +109,12 @@ namespace physics::fsi
   void AleMeshMotion<dim>::solve(const std::map<types::boundary_id, const Function<dim>*>& boundary,
                                  TrilinosWrappers::MPI::Vector&                            d) const
   {
+    // Dirichlet data on the owned DOFs, made consistent on the ghosts (a fully distributed
+    // mesh's ghost layer ends in faces that look like boundary faces; common/distributed_mesh.h).
     AffineConstraints<double> constraints(relevant_);
     for (const auto& [id, g] : boundary)
-      VectorTools::interpolate_boundary_values(dofs_, id, *g, constraints);
-    constraints.close();
+      add_boundary_constraints(dofs_, id, *g, constraints);
+    close_distributed_constraints(dofs_, relevant_, constraints);
     // The constrained system: K_G with the Dirichlet rows/columns eliminated, their values on
     // the right-hand side (distribute_local_to_global with inhomogeneities).
     DynamicSparsityPattern pattern(relevant_);

@@ -2,8 +2,10 @@
 // Newton system of the condensed formulation.
 #include "fsi/condensed_fsi_problem.h"
 
+#include "common/distributed_mesh.h"
 #include "common/row_exchange.h"
 #include "common/tpetra_bridge.h"
+#include "fsi/interface_nodes.h"
 
 #include <Xpetra_MultiVectorFactory.hpp>
 
@@ -30,10 +32,8 @@ namespace physics::fsi
       , rank_(Utilities::MPI::this_mpi_process(comm))
       , pcout_(std::cout, rank_ == 0)
       , timer_(pcout_, TimerOutput::never, TimerOutput::wall_times)
-      , fluid_tria_(comm, Triangulation<dim>::none, false,
-                    parallel::shared::Triangulation<dim>::partition_metis)
-      , solid_tria_(comm, Triangulation<dim>::none, false,
-                    parallel::shared::Triangulation<dim>::partition_metis)
+      , fluid_tria_(comm)
+      , solid_tria_(comm)
       , fluid_fe_(FE_Q<dim>(1), dim + 1)
       , vector_fe_(FE_Q<dim>(1), dim)
       , fluid_dofs_(fluid_tria_)
@@ -45,27 +45,36 @@ namespace physics::fsi
   void CondensedFsi::make_meshes()
   {
     // Fluid [0, L] x [0, H]; walls below and above with the same nodes along x (matching).
+    // Both meshes fully distributed: built by the group roots, partitioned by METIS each on its
+    // own (common/distributed_mesh.h), so a rank stores only its cells and their ghost layer.
     const unsigned nx = p_.cells_x, nf = p_.cells_fluid_y, nw = p_.cells_wall_y;
-    GridGenerator::subdivided_hyper_rectangle(fluid_tria_, {nx, nf}, Point<dim>(),
-                                              Point<dim>(p_.length, p_.height), true);
-    Triangulation<dim> lower, upper;
-    GridGenerator::subdivided_hyper_rectangle(lower, {nx, nw}, Point<dim>(0, -p_.wall_thickness),
-                                              Point<dim>(p_.length, 0));
-    GridGenerator::subdivided_hyper_rectangle(upper, {nx, nw}, Point<dim>(0, p_.height),
-                                              Point<dim>(p_.length, p_.height + p_.wall_thickness));
-    GridGenerator::merge_triangulations(lower, upper, solid_tria_);
-    const double tol = 1e-9 * p_.length;
-    for (const auto& cell : solid_tria_.active_cell_iterators())
-      for (const unsigned f : cell->face_indices())
-        if (cell->at_boundary(f))
-          {
-            const Point<dim> c = cell->face(f)->center();
-            cell->face(f)->set_boundary_id(std::abs(c[1]) < tol               ? bottom
-                                           : std::abs(c[1] - p_.height) < tol ? top
-                                           : std::abs(c[0]) < tol             ? inlet
-                                           : std::abs(c[0] - p_.length) < tol ? outlet
-                                                                              : outer);
-          }
+    create_distributed_mesh<dim>(fluid_tria_, [&](Triangulation<dim>& fluid) {
+      GridGenerator::subdivided_hyper_rectangle(fluid, {nx, nf}, Point<dim>(),
+                                                Point<dim>(p_.length, p_.height), true);
+    });
+    create_distributed_mesh<dim>(solid_tria_, [&](Triangulation<dim>& solid) {
+      Triangulation<dim> lower, upper;
+      GridGenerator::subdivided_hyper_rectangle(lower, {nx, nw}, Point<dim>(0, -p_.wall_thickness),
+                                                Point<dim>(p_.length, 0));
+      GridGenerator::subdivided_hyper_rectangle(upper, {nx, nw}, Point<dim>(0, p_.height),
+                                                Point<dim>(p_.length, p_.height + p_.wall_thickness));
+      GridGenerator::merge_triangulations(lower, upper, solid);
+      const double tol = 1e-9 * p_.length;
+      for (const auto& cell : solid.active_cell_iterators())
+        {
+          cell->set_material_id(0);
+          for (const unsigned f : cell->face_indices())
+            if (cell->at_boundary(f))
+              {
+                const Point<dim> c = cell->face(f)->center();
+                cell->face(f)->set_boundary_id(std::abs(c[1]) < tol               ? bottom
+                                               : std::abs(c[1] - p_.height) < tol ? top
+                                               : std::abs(c[0]) < tol             ? inlet
+                                               : std::abs(c[0] - p_.length) < tol ? outlet
+                                                                                  : outer);
+              }
+        }
+    });
   }
 
   void CondensedFsi::setup_fields()
@@ -92,24 +101,10 @@ namespace physics::fsi
         solid_coordinates_.push_back(x[c]);
 
     // Structure: Saint Venant-Kirchhoff, clamped at both ends, generalized-alpha.
-    solid_constraints_.reinit(solid_relevant_);
-    for (const types::boundary_id id : {inlet, outlet})
-      VectorTools::interpolate_boundary_values(solid_dofs_, id, Functions::ZeroFunction<dim>(dim),
-                                               solid_constraints_);
-    solid_constraints_.close();
-    // parallel::shared without artificial cells: every rank sees every clamped face.
-    for (const auto& cell : solid_dofs_.active_cell_iterators())
-      for (const unsigned f : cell->face_indices())
-        if (cell->at_boundary(f) &&
-            (cell->face(f)->boundary_id() == inlet || cell->face(f)->boundary_id() == outlet))
-          for (const unsigned v : cell->face(f)->vertex_indices())
-            for (unsigned c = 0; c < dim; ++c)
-              solid_clamped_.insert(cell->face(f)->vertex_dof_index(v, c));
+    make_boundary_constraints();
     const auto lame           = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
     solid_model_.materials[0] = make_material<dim>(p_.law, lame);
     solid_model_.densities[0] = p_.density;
-    for (const auto& cell : solid_tria_.active_cell_iterators())
-      cell->set_material_id(0);
     DynamicSparsityPattern solid_pattern(solid_relevant_);
     DoFTools::make_sparsity_pattern(solid_dofs_, solid_pattern, solid_constraints_, false);
     SparsityTools::distribute_sparsity_pattern(solid_pattern, solid_owned_, comm_, solid_relevant_);
@@ -147,9 +142,14 @@ namespace physics::fsi
         mesh_dofs_, MeshMotionSettings{p_.ale_poisson_ratio, p_.ale_stiffening}, comm_);
     match_interface();
 
+    // The structure values the owned fluid and ALE interface DOFs read (sync_interface).
     solid_ghosts_ = solid_relevant_;
     for (const auto& [f, s] : fluid_partner_)
-      solid_ghosts_.add_index(s);
+      if (fluid_owned_.is_element(f))
+        solid_ghosts_.add_index(s);
+    for (const auto& [m, s] : mesh_partner_)
+      if (mesh_owned_.is_element(m))
+        solid_ghosts_.add_index(s);
     for (auto* v : {&d_S_, &d_S_old_, &d_S_begin_, &dd_S_})
       v->reinit(solid_owned_, comm_);
     d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
@@ -162,54 +162,54 @@ namespace physics::fsi
     d_G_ghosted_.reinit(mesh_owned_, mesh_relevant_, comm_);
   }
 
+  void CondensedFsi::make_boundary_constraints()
+  {
+    // On a fully distributed mesh the outer faces of the ghost layer look like boundary faces
+    // with id 0 (= inlet): the Dirichlet DOFs are found on the owned DOFs only and then given
+    // to their ghost copies (common/distributed_mesh.h).
+    const Functions::ZeroFunction<dim> zero(dim);
+    solid_constraints_.reinit(solid_relevant_);
+    AffineConstraints<double> mesh_planes(mesh_relevant_);
+    for (const types::boundary_id id : {inlet, outlet})
+      {
+        add_boundary_constraints(solid_dofs_, id, zero, solid_constraints_);
+        add_boundary_constraints(mesh_dofs_, id, zero, mesh_planes); // ALE fixed on the planes
+      }
+    close_distributed_constraints(solid_dofs_, solid_relevant_, solid_constraints_);
+    close_distributed_constraints(mesh_dofs_, mesh_relevant_, mesh_planes);
+    for (const auto sd : solid_relevant_)
+      if (solid_constraints_.is_constrained(sd))
+        solid_clamped_.insert(sd);
+    for (const auto m : mesh_relevant_)
+      if (mesh_planes.is_constrained(m))
+        mesh_fixed_.insert(m);
+  }
+
   void CondensedFsi::match_interface()
   {
-    // parallel::shared: every rank knows every cell's DOFs, so the maps are built everywhere
-    // without communication. Structure interface vertices keyed by their coordinates.
-    const double tol = 1e-9 * p_.length;
-    auto         key = [tol](const Point<dim>& x) {
-      return std::make_pair(std::llround(x[0] / tol), std::llround(x[1] / tol));
-    };
-    std::map<std::pair<long long, long long>, GlobalIndex> solid_node; // first DOF of the vertex
-    for (const auto& cell : solid_dofs_.active_cell_iterators())
-      for (const unsigned f : cell->face_indices())
-        if (cell->at_boundary(f) && on_interface(cell->face(f)->boundary_id()))
-          for (const unsigned v : cell->face(f)->vertex_indices())
-            solid_node[key(cell->face(f)->vertex(v))] = cell->face(f)->vertex_dof_index(v, 0);
-    std::set<GlobalIndex> removed_mesh;
-    for (const auto& cell : fluid_dofs_.active_cell_iterators())
-      {
-        const DoFHandler<dim>::active_cell_iterator mesh_cell(&fluid_tria_, cell->level(), cell->index(),
-                                                              &mesh_dofs_);
-        for (const unsigned f : cell->face_indices())
-          if (cell->at_boundary(f))
-            {
-              const auto id = cell->face(f)->boundary_id();
-              for (const unsigned v : cell->face(f)->vertex_indices())
-                if (on_interface(id))
-                  {
-                    const auto it = solid_node.find(key(cell->face(f)->vertex(v)));
-                    if (it == solid_node.end())
-                      throw std::invalid_argument("Geometry: a fluid interface node at " +
-                                                  Utilities::to_string(cell->face(f)->vertex(v)[0]) +
-                                                  " has no structure node (the interface meshes must match)");
-                    for (unsigned c = 0; c < dim; ++c)
-                      {
-                        fluid_partner_[cell->face(f)->vertex_dof_index(v, c)]     = it->second + c;
-                        mesh_partner_[mesh_cell->face(f)->vertex_dof_index(v, c)] = it->second + c;
-                        removed_mesh.insert(mesh_cell->face(f)->vertex_dof_index(v, c));
-                      }
-                  }
-                else
-                  for (unsigned c = 0; c < dim; ++c) // ALE fixed on the inlet/outlet planes
-                    mesh_fixed_.insert(mesh_cell->face(f)->vertex_dof_index(v, c));
-            }
-      }
+    // Every rank's owned interface nodes of the three fields, gathered everywhere
+    // (interface_nodes.h); fluid velocities and ALE displacements matched to structure nodes.
+    const auto   solid_nodes = gather_interface_nodes(solid_dofs_, dim, on_interface, comm_);
+    const auto   fluid_nodes = gather_interface_nodes(fluid_dofs_, dim, on_interface, comm_);
+    const auto   mesh_nodes  = gather_interface_nodes(mesh_dofs_, dim, on_interface, comm_);
+    const double tol         = 1e-9 * p_.length;
+    fluid_partner_           = match_interface_nodes(fluid_nodes, solid_nodes, tol);
+    mesh_partner_            = match_interface_nodes(mesh_nodes, solid_nodes, tol);
+    // The clamped interface DOFs (the walls' end nodes) of every rank: partners of fluid DOFs
+    // on ranks whose structure part does not reach them.
+    std::vector<GlobalIndex> clamped;
+    for (const auto sd : solid_nodes.dofs)
+      if (solid_owned_.is_element(sd) && solid_constraints_.is_constrained(sd))
+        clamped.push_back(sd);
+    for (const auto& part : Utilities::MPI::all_gather(comm_, clamped))
+      solid_clamped_.insert(part.begin(), part.end());
     for (const auto& [f, s] : fluid_partner_)
       interface_velocities_.push_back(f);
-    removed_mesh_.assign(removed_mesh.begin(), removed_mesh.end());
-    for (const auto m : removed_mesh_)
-      mesh_fixed_.erase(m);
+    for (const auto& [m, s] : mesh_partner_) // the interface ALE DOFs follow the structure
+      {
+        removed_mesh_.push_back(m);
+        mesh_fixed_.erase(m);
+      }
     n_solid_ = solid_dofs_.n_dofs();
     n_fluid_ = fluid_dofs_.n_dofs() - interface_velocities_.size();
     n_mesh_  = mesh_dofs_.n_dofs() - removed_mesh_.size();

@@ -21,9 +21,13 @@
 // lists the interface nodes' pressures only, so its DOFs are not node-complete (1 DOF per node
 // in the block description). F^G, the shape derivatives, can be dropped (a parameter).
 //
-// The MPI layout: every field keeps deal.II's distribution of its own mesh; the fluid interface
-// rows are sent to the owner of the matching structure DOF (common/row_exchange.h), and the
-// structure values the fluid and the ALE interface need are ghosts of the structure vectors.
+// The MPI layout: the fluid and the structure meshes are fully distributed, each partitioned
+// on its own (a rank stores its cells and one ghost layer), and every field keeps deal.II's
+// distribution of its mesh; the interface nodes are matched from an all-gather of each rank's
+// owned interface nodes (interface_nodes.h, O(interface) per rank), the fluid interface rows
+// are sent to the owner of the matching structure DOF (common/row_exchange.h), and the
+// structure values the owned fluid and ALE interface DOFs need are ghosts of the structure
+// vectors.
 #pragma once
 
 #include "common/solver_parameters.h"
@@ -77,6 +81,9 @@ namespace physics::fsi
     long long structure_dofs = 0, fluid_dofs = 0, ale_dofs = 0; ///< blocks of the Newton system
     /// Per converged step: the largest wall displacement (normal to the wall).
     std::vector<double> max_wall_displacement;
+    /// At the end: ||d^S||_2 and max |d^S_i| (structure), ||d^G||_2 (ALE), ||(u, p)||_2 (fluid);
+    /// norms of the global vectors, independent of the numbering and the partition.
+    double structure_l2 = 0, structure_max = 0, ale_l2 = 0, fluid_l2 = 0;
   };
 
   FsiRunSummary run_condensed_fsi(const FsiParameters& parameters, MPI_Comm comm);

@@ -18,7 +18,7 @@
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
-#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -59,9 +59,12 @@ namespace physics::fsi
   private:
     void make_meshes();
     void setup_fields();
+    /// Clamped structure DOFs and ALE DOFs fixed on the inlet/outlet planes, from owned-DOF
+    /// constraints made consistent across ranks (common/distributed_mesh.h).
+    void make_boundary_constraints();
     /// The interface maps: fluid velocity DOF -> structure DOF, ALE DOF -> structure DOF, and
     /// the numbering of the merged system (structure, fluid without the interface velocities,
-    /// inner ALE DOFs).
+    /// inner ALE DOFs). From an all-gather of the interface nodes each rank owns.
     void match_interface();
     /// The fluid interface velocities and ALE interface displacements from the structure.
     void sync_interface();
@@ -84,9 +87,9 @@ namespace physics::fsi
     dealii::ConditionalOStream pcout_;
     dealii::TimerOutput        timer_;
 
-    dealii::parallel::shared::Triangulation<dim> fluid_tria_, solid_tria_;
-    dealii::FESystem<dim>                        fluid_fe_, vector_fe_;
-    dealii::DoFHandler<dim>                      fluid_dofs_, mesh_dofs_, solid_dofs_;
+    dealii::parallel::fullydistributed::Triangulation<dim> fluid_tria_, solid_tria_;
+    dealii::FESystem<dim>                                  fluid_fe_, vector_fe_;
+    dealii::DoFHandler<dim>                                fluid_dofs_, mesh_dofs_, solid_dofs_;
     dealii::IndexSet fluid_owned_, fluid_relevant_, mesh_owned_, mesh_relevant_, solid_owned_,
         solid_relevant_, solid_ghosts_;
     std::vector<dealii::IndexSet>          solid_owned_per_rank_;
@@ -97,13 +100,15 @@ namespace physics::fsi
     std::unique_ptr<AleMeshMotion<dim>>    mesh_motion_;
     FluidModel<dim>                        fluid_model_;
 
-    std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_; ///< interface DOF -> structure DOF
-    std::vector<GlobalIndex>           interface_velocities_, removed_mesh_; ///< sorted
-    /// Clamped structure DOFs, all of them on every rank (a fluid rank meets them as partners of
-    /// its interface DOFs even where the structure's constraints do not store them).
+    /// Interface DOF -> structure DOF, for the whole interface on every rank (interface-sized,
+    /// from the all-gather of match_interface; the merged numbering needs every rank's count).
+    std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_;
+    std::vector<GlobalIndex>           interface_velocities_, removed_mesh_; ///< sorted, whole interface
+    /// Clamped structure DOFs this rank meets: its locally relevant ones and those of the whole
+    /// interface (a fluid rank meets them as partners of its interface DOFs).
     std::set<GlobalIndex>    solid_clamped_;
     std::vector<double>      solid_coordinates_; ///< owned structure nodes, node-major (rigid-body modes)
-    std::set<GlobalIndex>    mesh_fixed_;        ///< ALE DOFs on the inlet/outlet planes
+    std::set<GlobalIndex>    mesh_fixed_;        ///< locally relevant ALE DOFs on the inlet/outlet planes
     std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
     multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 

@@ -208,9 +208,12 @@ namespace physics::fsi
       solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "structure", comm_);
       sync_interface();
     }
-    pcout_ << "fsi: fluid " << fluid_tria_.n_global_active_cells() << " cells, structure "
-           << solid_tria_.n_global_active_cells() << " cells; Newton system: structure " << n_solid_
-           << ", fluid " << n_fluid_ << ", ALE " << n_mesh_ << " DOFs (" << fluid_partner_.size()
+    pcout_ << "fsi: fluid " << fluid_tria_.n_global_active_cells() << " cells (at most "
+           << Utilities::MPI::max(fluid_tria_.n_active_cells(), comm_) << " stored on a rank), structure "
+           << solid_tria_.n_global_active_cells() << " cells (at most "
+           << Utilities::MPI::max(solid_tria_.n_active_cells(), comm_)
+           << " stored on a rank); Newton system: structure " << n_solid_ << ", fluid " << n_fluid_
+           << ", ALE " << n_mesh_ << " DOFs (" << fluid_partner_.size()
            << " interface velocity DOFs condensed), shape derivatives "
            << (p_.shape_derivatives ? "on" : "off") << ", " << Utilities::MPI::n_mpi_processes(comm_)
            << " ranks, preset " << p_.solver.preset << "\n";
@@ -227,6 +230,10 @@ namespace physics::fsi
     summary.ale_dofs       = n_mesh_;
     summary.record(result);
     summary.max_wall_displacement = max_wall_displacement_;
+    summary.structure_l2          = d_S_.l2_norm();
+    summary.structure_max         = d_S_.linfty_norm();
+    summary.ale_l2                = d_G_.l2_norm();
+    summary.fluid_l2              = x_F_.l2_norm();
     if (!result.converged)
       pcout_ << "Newton did not converge in time step " << result.steps + 1 << ": " << result.failure << "\n";
     log_timer_summary(timer_, log_, std::cout, rank_ == 0, comm_);

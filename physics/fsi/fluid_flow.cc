@@ -1,5 +1,6 @@
 #include "fsi/fluid_flow.h"
 
+#include "common/distributed_mesh.h"
 #include "common/tpetra_bridge.h"
 
 #include <deal.II/base/quadrature_lib.h>
@@ -49,12 +50,14 @@ namespace physics::fsi
                 cell->vertex_dof_index(v, 0) % (dim + 1) != 0)
               throw std::runtime_error("fluid DOFs are not numbered node by node");
 
-    // Homogeneous constraints of the Newton increment on the Dirichlet DOFs.
+    // Homogeneous constraints of the Newton increment on the Dirichlet DOFs: found on the owned
+    // DOFs and given to their ghost copies, so that a fully distributed mesh (whose ghost layer
+    // ends in faces that look like boundary faces) works too (common/distributed_mesh.h).
     constraints_.reinit(relevant_);
     const FEValuesExtractors::Vector velocity(0);
     for (const auto& [id, function] : s_.velocity)
-      VectorTools::interpolate_boundary_values(dofs_, id, Functions::ZeroFunction<dim>(dim + 1), constraints_,
-                                               fe_.component_mask(velocity));
+      add_boundary_constraints(dofs_, id, Functions::ZeroFunction<dim>(dim + 1), constraints_,
+                               fe_.component_mask(velocity));
     if (s_.pressure_point)
       for (const auto& cell : dofs_.active_cell_iterators())
         if (!cell->is_artificial())
@@ -62,10 +65,10 @@ namespace physics::fsi
             if (cell->vertex(v).distance(s_.pressure_point->first) < 1e-10 * cell->diameter())
               {
                 const auto dof = cell->vertex_dof_index(v, dim);
-                if (!constraints_.is_constrained(dof))
+                if (owned_.is_element(dof) && !constraints_.is_constrained(dof))
                   constraints_.add_line(dof);
               }
-    constraints_.close();
+    close_distributed_constraints(dofs_, relevant_, constraints_);
 
     pressure_dofs_ = IndexSet(owned_.size());
     for (const auto i : owned_)

@@ -1,0 +1,49 @@
+// The FSI interface of matching meshes on fully distributed triangulations. The fluid and the
+// structure are partitioned independently, so the fluid and structure cells at a piece of the
+// interface usually live on different ranks, and no rank stores the other field's cells there.
+// Each rank therefore contributes the interface nodes it owns (reference position and DOF
+// indices), and one all-gather gives every rank the whole interface: O(interface) data per
+// rank, the surface-sized exception production codes make too (a rank needs the partner of
+// every interface DOF it assembles, and the merged numbering needs every rank's count of
+// condensed DOFs). Nothing of global size (cells, DOFs) is gathered.
+#pragma once
+
+#include "common/row_exchange.h"
+
+#include <deal.II/base/point.h>
+#include <deal.II/dofs/dof_handler.h>
+
+#include <mpi.h>
+
+#include <functional>
+#include <map>
+#include <vector>
+
+namespace physics::fsi
+{
+  /// One field's interface nodes of all ranks: node k at `positions[k]` carries the DOFs
+  /// dofs[k * components], ..., dofs[k * components + components - 1] (its first components).
+  template <int dim>
+  struct InterfaceNodes
+  {
+    unsigned int                    components = 0;
+    std::vector<dealii::Point<dim>> positions;
+    std::vector<GlobalIndex>        dofs;
+  };
+
+  /// Collective: the vertices of faces with `on_interface(boundary id)` whose DOFs this rank
+  /// owns, gathered from every rank. Faces of ghost cells are visited too (an owned vertex may
+  /// lie on an interface face of a ghost cell only); the outer faces of the ghost layer carry
+  /// boundary id 0, which is never an interface id.
+  template <int dim>
+  InterfaceNodes<dim>
+  gather_interface_nodes(const dealii::DoFHandler<dim>& dofs, unsigned int components,
+                         const std::function<bool(dealii::types::boundary_id)>& on_interface, MPI_Comm comm);
+
+  /// DOF of `from` -> DOF of `to` at the same position (coordinates equal to `tolerance`), one
+  /// pair per component. Throws std::invalid_argument (the same on every rank, since the input
+  /// is) when a node of `from` has no node of `to`: the interface meshes must match.
+  template <int dim>
+  std::map<GlobalIndex, GlobalIndex> match_interface_nodes(const InterfaceNodes<dim>& from,
+                                                           const InterfaceNodes<dim>& to, double tolerance);
+} // namespace physics::fsi
