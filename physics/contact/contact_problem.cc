@@ -604,7 +604,7 @@ namespace physics::contact
           penetration = std::max(penetration, -state.weighted_gap[j] / state.weight[j]);
       summary_.max_penetration = std::max(summary_.max_penetration, penetration);
       JsonLinesLog::Line line;
-      line.add("time_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
+      line.add("converged_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
       log_.write(line);
       u_ghosted_             = u_;
       const std::string self = contact_->detect_self_contact(positions(contact_->slave_nodes()),
