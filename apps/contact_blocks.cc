@@ -1,7 +1,9 @@
-// contact_blocks: quasi-static frictionless mortar contact of two hyperelastic blocks (2D or 3D),
-// semi-smooth Newton, GMRES with the block-AMG presets. Everything is set in a .prm file.
+// contact_blocks: frictionless mortar contact of hyperelastic bodies (2D or 3D; two bodies, or
+// any number with contact pairs), quasi-static or dynamic, semi-smooth Newton, GMRES with the
+// block-AMG presets. Everything is set in a .prm file.
 //
 //   mpirun -np 2 contact_blocks apps/contact_blocks_2d.prm
+//   mpirun -np 2 contact_blocks apps/contact_rings_2d.prm     (24 collapsing rings)
 //   contact_blocks --print-parameters      (all parameters with their documentation)
 #include "common/app_main.h"
 #include "contact/contact_problem.h"
@@ -18,7 +20,9 @@ namespace
   const char* usage = R"USAGE(usage: contact_blocks [PARAMETER_FILE.prm] [--set "Section/Entry=value"]...
        contact_blocks --help | --print-parameters
 
-Quasi-static frictionless mortar contact of two bodies meshed with gmsh (2D plane strain or 3D),
+Frictionless mortar contact of two or more bodies meshed with gmsh (2D plane strain or 3D;
+quasi-static or generalized-alpha dynamics; Contact/Contact surface ids and Contact/Pairs for
+many bodies),
 semi-smooth Newton (active set updated inside the Newton loop), each Newton system solved by GMRES
 preconditioned with a preset of the block-AMG module. Writes Directory/run_log.jsonl (one JSON
 object per Newton step), Directory/solution.pvd (+ pvtu per load step) and, on request, every
@@ -65,7 +69,9 @@ namespace
     std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
               << ", total normal force " << force << "\n"
               << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "
-              << summary.max_displacement << "\n";
+              << summary.max_displacement << "\n"
+              << std::defaultfloat << std::setprecision(6)
+              << "Largest penetration of the converged steps (max -g~_j / w_j): " << summary.max_penetration << "\n";
   }
 } // namespace
 

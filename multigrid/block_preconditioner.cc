@@ -133,10 +133,7 @@ namespace multigrid
           // For user XML with MueLu's dof-based InterfaceAggregationFactory (the presets use the
           // node-based mapping above).
           L0->Set("Primal interface DOF map", interface.primal_interface_dofs);
-          RCP<const Map> segregation = interface.segregation_dofs;
-          if (segregation.is_null()) // nothing to cut: an empty set keeps every entry
-            segregation = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, 0, 0, 0, comm);
-          L0->Set("segregation dofs", segregation);
+          L0->Set("segregation labels", system.segregation_labels());
         }
       interpreter.SetupHierarchy(*H);
       return H;

@@ -205,7 +205,29 @@ namespace multigrid
             throw InputError(where + ": dual-to-primal node mapping entry " + std::to_string(d) + " -> " +
                              std::to_string(p) + " is out of range on rank " +
                              std::to_string(comm_->getRank()));
+        if (!interface_->body_labels.is_null() &&
+            interface_->body_labels->getLocalLength() != primal.map->getNodeNumElements())
+          throw InputError(where + ": body labels have " +
+                           std::to_string(interface_->body_labels->getLocalLength()) + " entries on rank " +
+                           std::to_string(comm_->getRank()) + ", expected one per local primal DOF (" +
+                           std::to_string(primal.map->getNodeNumElements()) + ")");
       }
+  }
+
+  RCP<MultiVector> BlockSystem::segregation_labels() const
+  {
+    const auto& info = interface();
+    if (!info.body_labels.is_null())
+      return info.body_labels;
+    auto labels = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(blocks_.at(0).map, 1, true);
+    if (!info.segregation_dofs.is_null())
+      {
+        auto       data = labels->getDataNonConst(0);
+        const auto& map = *blocks_.at(0).map;
+        for (std::size_t i = 0; i < map.getNodeNumElements(); ++i)
+          data[i] = info.segregation_dofs->isNodeGlobalElement(map.getGlobalElement(i)) ? 1.0 : 0.0;
+      }
+    return labels;
   }
 
   std::vector<double> BlockSystem::block_norms(const MultiVector& v) const

@@ -2,7 +2,7 @@
 // module. It carries what MueLu's blocked factories need: the n x n blocked operator over strided
 // maps, the right-hand side, per-block near-nullspaces and coordinates, and for contact/meshtying
 // systems the interface data consumed by InterfaceAggregationFactory (dual -> primal node mapping,
-// primal interface DOF map) and by the segregated aggregation (the DOFs of one body).
+// primal interface DOF map) and by the segregated aggregation (a body label per primal DOF).
 //
 // Numbering convention (Xpetra mode, not Thyra mode): global DOF ids are contiguous per block,
 // block k owning [offset_k, offset_k + n_k), offset_0 = 0; within a block DOFs are node-major
@@ -47,6 +47,10 @@ namespace multigrid
     /// entry coupling this set to its complement, so no aggregate crosses the contact interface.
     /// Null when the primal block has no such coupling to cut.
     RCP<const Map> segregation_dofs;
+    /// Any number of bodies: a body label per owned primal DOF (one column on block 0's map,
+    /// integral values >= 0). The segregated aggregation drops every entry that couples two DOFs
+    /// with different labels. Null: the two labels of segregation_dofs (1 inside, 0 outside).
+    RCP<MultiVector> body_labels;
     /// Optional master / slave body DOF sets (reporting, diagnostics).
     RCP<const Map> master_dofs, slave_dofs;
   };
@@ -79,6 +83,9 @@ namespace multigrid
     bool                 has_interface() const { return interface_.has_value(); }
     const InterfaceInfo& interface() const;
     void                 set_interface(InterfaceInfo info);
+    /// The body label of every owned primal DOF (block 0's map): InterfaceInfo::body_labels, or
+    /// 1 / 0 for DOFs inside / outside segregation_dofs, or all 0 (nothing to cut).
+    RCP<MultiVector> segregation_labels() const;
 
     /// Near-nullspace of block k, or the constant vectors per DOF component when none is stored
     /// (translations: what Lagrange multipliers and ALE fields use).

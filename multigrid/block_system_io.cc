@@ -39,6 +39,7 @@ namespace multigrid
       bool               has_interface = false;
       std::vector<GO>    dual_to_primal;   ///< primal node of every dual node (global)
       std::vector<GO>    segregation_gids; ///< DOFs of the slave body (global), may be empty
+      std::string        body_labels;      ///< file of the primal DOFs' body labels, or empty
     };
 
     void require_file(const std::string& file, const std::string& what)
@@ -107,7 +108,7 @@ namespace multigrid
       std::ifstream in(manifest);
       std::string   line, format;
       int           line_no = 0;
-      std::string   dual_to_primal_file, segregation_file;
+      std::string   dual_to_primal_file, segregation_file, labels_file;
       auto          bad = [&](const std::string& what) {
         throw InputError(manifest + ":" + std::to_string(line_no) + ": " + what);
       };
@@ -142,8 +143,8 @@ namespace multigrid
           else if (key == "interface")
             {
               if (!(s >> dual_to_primal_file))
-                bad("expected 'interface <dual-to-primal file> [segregation file]'");
-              s >> segregation_file;
+                bad("expected 'interface <dual-to-primal file> [segregation file|-] [body labels file]'");
+              s >> segregation_file >> labels_file;
               d.has_interface = true;
             }
           else
@@ -174,6 +175,11 @@ namespace multigrid
             }
           if (!segregation_file.empty() && segregation_file != "-")
             d.segregation_gids = read_map_gids((fs::path(dir) / segregation_file).string());
+          if (!labels_file.empty())
+            {
+              d.body_labels = (fs::path(dir) / labels_file).string();
+              require_file(d.body_labels, "body labels");
+            }
         }
       return d;
     }
@@ -445,6 +451,16 @@ namespace multigrid
                   Xpetra::UseTpetra, Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid(),
                   Teuchos::ArrayView<const GO>(mine), 0, comm);
             }
+          if (!d.body_labels.empty())
+            {
+              const auto n = scan_matrix_market(d.body_labels);
+              if (n.rows != primal.global_size || n.cols != 1)
+                throw InputError(d.body_labels + ": body labels have " + std::to_string(n.rows) + " x " +
+                                 std::to_string(n.cols) + " entries, expected " +
+                                 std::to_string(primal.global_size) + " x 1 (one per primal DOF)");
+              info.body_labels =
+                  with_map(*read_in_global_order(d.body_labels, block_local_map(primal, comm)), primal.map);
+            }
           system.set_interface(std::move(info));
         }
       system.validate(d.source);
@@ -557,7 +573,14 @@ namespace multigrid
             segregation = "segregation_dofs.mm";
             IO::Write(partial + "/" + segregation, *info.segregation_dofs);
           }
-        manifest << "interface dual_to_primal.mm " << segregation << "\n";
+        manifest << "interface dual_to_primal.mm " << segregation;
+        if (!info.body_labels.is_null())
+          {
+            write_in_global_order(*with_map(*info.body_labels, block_local_map(primal, system.comm())),
+                                  partial + "/body_labels.mm");
+            manifest << " body_labels.mm";
+          }
+        manifest << "\n";
         if (comm.getRank() == 0)
           {
             std::ofstream out(partial + "/dual_to_primal.mm");

@@ -7,9 +7,11 @@
 //        matrix   matrix.mm                    (the whole operator, 1-based coordinate format)
 //        rhs      rhs.mm                       (array format)
 //        block    <name> <size> <dofs per node> [nullspace file|-] [coordinates file|-]
-//        interface <dual-to-primal file> [segregation DOF file|-]
+//        interface <dual-to-primal file> [segregation DOF file|-] [body labels file]
 //     The dual-to-primal file is a Matrix Market integer array with two columns: for every
 //     multiplier node (0-based within block 1) the primal node it belongs to (0-based within block 0).
+//     The body labels file (a one-column array in block 0's DOF order) gives every primal DOF its
+//     body (InterfaceInfo::body_labels, any number of bodies).
 //     Every vector file is in global id order: rhs.mm in the row order of matrix.mm, a nullspace
 //     in the DOF order of its block, coordinates (one column per direction) in its node order.
 //  2. The single-matrix convention of other codes' exports (tests/data/peer): PREFIX_matrix.mm

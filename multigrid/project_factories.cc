@@ -9,18 +9,23 @@
 #include <MueLu_FactoryFactory.hpp>
 #include <MueLu_Level.hpp>
 #include <MueLu_SingleLevelFactoryBase.hpp>
+#include <MueLu_TwoLevelFactoryBase.hpp>
 #include <MueLu_SmootherFactory.hpp>
 #include <MueLu_SmootherPrototype.hpp>
 #include <MueLu_Monitor.hpp>
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_BlockedMultiVector.hpp>
+#include <Xpetra_ExportFactory.hpp>
 #include <Xpetra_ImportFactory.hpp>
 #include <Xpetra_MapFactory.hpp>
 #include <Xpetra_MatrixFactory.hpp>
+#include <Xpetra_MultiVectorFactory.hpp>
 #include <Xpetra_VectorFactory.hpp>
 
+#include <limits>
 #include <memory>
+#include <stdexcept>
 
 namespace multigrid
 {
@@ -30,7 +35,7 @@ namespace multigrid
     using MueLu::NoFactory;
     using FactoryBase = MueLu::FactoryBase;
 
-    /// A_seg(i,j) = A(i,j) if i and j are both in the segregation set or both outside, else 0.
+    /// A_seg(i,j) = A(i,j) if DOFs i and j carry the same body label, else 0.
     class LevelSegregatedAFactory : public MueLu::SingleLevelFactoryBase
     {
     public:
@@ -38,9 +43,9 @@ namespace multigrid
       {
         auto list = Teuchos::rcp(new Teuchos::ParameterList());
         list->set<RCP<const FactoryBase>>("A", Teuchos::null, "Generating factory of the matrix to filter");
-        list->set<RCP<const FactoryBase>>("segregation dofs", Teuchos::null,
-                                          "Generating factory of the segregation DOF map on coarse "
-                                          "levels (MapTransferFactory); user data on level 0");
+        list->set<RCP<const FactoryBase>>("segregation labels", Teuchos::null,
+                                          "Generating factory of the body labels on coarse levels "
+                                          "(SegregationLabelTransferFactory); user data on level 0");
         return list;
       }
 
@@ -48,24 +53,98 @@ namespace multigrid
       {
         Input(level, "A");
         if (level.GetLevelID() == 0)
-          level.DeclareInput("segregation dofs", NoFactory::get(), this);
+          level.DeclareInput("segregation labels", NoFactory::get(), this);
         else
-          Input(level, "segregation dofs");
+          Input(level, "segregation labels");
       }
 
       void Build(Level& level) const override
       {
         MueLu::FactoryMonitor monitor(*this, "Segregated matrix (filtered A)", level);
         RCP<Matrix>           A = Get<RCP<Matrix>>(level, "A");
-        RCP<const Map>        set;
+        RCP<MultiVector>      labels;
         if (level.GetLevelID() == 0)
-          set = level.Get<RCP<const Map>>("segregation dofs", NoFactory::get());
+          labels = level.Get<RCP<MultiVector>>("segregation labels", NoFactory::get());
         else
-          set = Get<RCP<const Map>>(level, "segregation dofs");
+          labels = Get<RCP<MultiVector>>(level, "segregation labels");
 
-        // Nothing to cut (e.g. mesh tying of bodies without coupling in A): no copy.
-        RCP<Matrix> filtered = set->getGlobalNumElements() == 0 ? A : segregated_matrix(*A, *set);
-        Set(level, "A", filtered);
+        // Nothing to cut (one label everywhere, e.g. mesh tying of bodies without coupling in
+        // A): no copy.
+        double     range[2] = {-std::numeric_limits<double>::max(), -std::numeric_limits<double>::max()};
+        const auto data     = labels->getData(0);
+        for (const double v : data)
+          range[0] = std::max(range[0], -v), range[1] = std::max(range[1], v); // -min, max
+        double global[2];
+        Teuchos::reduceAll(*labels->getMap()->getComm(), Teuchos::REDUCE_MAX, 2, range, global);
+        Set(level, "A", global[1] == -global[0] ? A : segregated_matrix(*A, *labels));
+      }
+    };
+
+    /// The body labels of the next coarser level: a coarse DOF takes the label of the fine DOFs
+    /// whose rows of the tentative prolongator reach it. Aggregates of the filtered A never mix
+    /// bodies, so the label is unique; where it is not (a label set built without filtering),
+    /// the largest wins, which for two labels is MapTransferFactory's rule for a DOF set.
+    class SegregationLabelTransferFactory : public MueLu::TwoLevelFactoryBase
+    {
+    public:
+      RCP<const Teuchos::ParameterList> GetValidParameterList() const override
+      {
+        auto list = Teuchos::rcp(new Teuchos::ParameterList());
+        list->set<RCP<const FactoryBase>>("P", Teuchos::null,
+                                          "Generating factory of the tentative prolongator (default: the "
+                                          "level's \"Ptent\")");
+        return list;
+      }
+
+      void DeclareInput(Level& fine, Level& coarse) const override
+      {
+        if (fine.GetLevelID() == 0)
+          fine.DeclareInput("segregation labels", NoFactory::get(), this);
+        else
+          fine.DeclareInput("segregation labels", this, this);
+        coarse.DeclareInput("P", tentative_prolongator(coarse).get(), this);
+      }
+
+      void Build(Level& fine, Level& coarse) const override
+      {
+        MueLu::FactoryMonitor monitor(*this, "Body labels of the coarse level", coarse);
+        RCP<MultiVector>      labels = fine.GetLevelID() == 0
+                                           ? fine.Get<RCP<MultiVector>>("segregation labels", NoFactory::get())
+                                           : fine.Get<RCP<MultiVector>>("segregation labels", this);
+        RCP<Matrix>           P      = coarse.Get<RCP<Matrix>>("P", tentative_prolongator(coarse).get());
+        // label + 1 on the columns of P this rank's rows reach, then the largest per coarse DOF.
+        auto       on_columns = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(P->getColMap(), 1, true);
+        auto       column     = on_columns->getDataNonConst(0);
+        const auto fine_label = labels->getData(0);
+        const auto label_map  = labels->getMap(); // a fresh wrapper per call: keep it alive
+        for (std::size_t row = 0; row < P->getNodeNumRows(); ++row)
+          {
+            const LO i = label_map->getLocalElement(P->getRowMap()->getGlobalElement(row));
+            TEUCHOS_TEST_FOR_EXCEPTION(i == Teuchos::OrdinalTraits<LO>::invalid(), MueLu::Exceptions::RuntimeError,
+                                       "SegregationLabelTransferFactory: no label for row "
+                                           << P->getRowMap()->getGlobalElement(row) << " on level "
+                                           << fine.GetLevelID());
+            Teuchos::ArrayView<const LO> cols;
+            Teuchos::ArrayView<const SC> vals;
+            P->getLocalRowView(row, cols, vals);
+            for (LO k = 0; k < cols.size(); ++k)
+              column[cols[k]] = std::max(column[cols[k]], fine_label[i] + 1.0);
+          }
+        auto coarse_labels = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(P->getDomainMap(), 1, true);
+        auto exporter      = Xpetra::ExportFactory<LO, GO, NO>::Build(P->getColMap(), P->getDomainMap());
+        coarse_labels->doExport(*on_columns, *exporter, Xpetra::ABSMAX);
+        auto data = coarse_labels->getDataNonConst(0);
+        for (auto& v : data)
+          v = std::max(v - 1.0, 0.0); // a coarse DOF no row reaches (none in practice): label 0
+        Set(coarse, "segregation labels", coarse_labels);
+      }
+
+    private:
+      /// As MapTransferFactory: "P" if given, else the coarse level's "Ptent" (Ptent00 in the presets).
+      RCP<const FactoryBase> tentative_prolongator(Level& coarse) const
+      {
+        RCP<const FactoryBase> P = GetFactory("P");
+        return P.is_null() ? coarse.GetFactoryManager()->GetFactory("Ptent") : P;
       }
     };
 
@@ -252,20 +331,29 @@ namespace multigrid
     return Teuchos::rcp(new SuperLUSmoother(A));
   }
 
-  RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set)
+  RCP<Matrix> segregated_matrix(const Matrix& A, const MultiVector& labels)
   {
-    // Membership flag of every row, then of every column (imported: the column owner decides).
-    auto in_set_rows = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
+    // Label of every row (looked up by global id), then of every column (imported: the column
+    // owner decides).
+    auto       row_labels = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
     {
-      auto data = in_set_rows->getDataNonConst(0);
+      auto        data  = row_labels->getDataNonConst(0);
+      const auto  given = labels.getData(0);
+      const auto  map   = labels.getMap(); // Xpetra wraps a new map object on every call: keep it
       for (decltype(data.size()) i = 0; i < data.size(); ++i)
-        data[i] = set.isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
+        {
+          const LO k = map->getLocalElement(A.getRowMap()->getGlobalElement(i));
+          if (k == Teuchos::OrdinalTraits<LO>::invalid())
+            throw std::invalid_argument("segregated_matrix: no body label for row " +
+                                        std::to_string(A.getRowMap()->getGlobalElement(i)));
+          data[i] = given[k];
+        }
     }
-    auto in_set_cols = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
-    auto importer    = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
-    in_set_cols->doImport(*in_set_rows, *importer, Xpetra::INSERT);
-    const auto row_flag = in_set_rows->getData(0);
-    const auto col_flag = in_set_cols->getData(0);
+    auto col_labels = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
+    auto importer   = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
+    col_labels->doImport(*row_labels, *importer, Xpetra::INSERT);
+    const auto row_label = row_labels->getData(0);
+    const auto col_label = col_labels->getData(0);
 
     RCP<Matrix> filtered = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getColMap(),
                                                                         A.getNodeMaxNumRowEntries());
@@ -277,7 +365,7 @@ namespace multigrid
         std::vector<LO> keep_cols;
         std::vector<SC> keep_vals;
         for (LO k = 0; k < cols.size(); ++k)
-          if (row_flag[i] == col_flag[cols[k]])
+          if (row_label[i] == col_label[cols[k]])
             {
               keep_cols.push_back(cols[k]);
               keep_vals.push_back(vals[k]);
@@ -287,6 +375,15 @@ namespace multigrid
     filtered->fillComplete(A.getDomainMap(), A.getRangeMap());
     filtered->SetFixedBlockSize(A.GetFixedBlockSize());
     return filtered;
+  }
+
+  RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set)
+  {
+    auto labels = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), 1, true);
+    auto data   = labels->getDataNonConst(0);
+    for (decltype(data.size()) i = 0; i < data.size(); ++i)
+      data[i] = set.isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
+    return segregated_matrix(A, *labels);
   }
 
   RCP<const MueLu::FactoryBase>
@@ -306,6 +403,8 @@ namespace multigrid
 
     if (name == "LevelSegregatedAFactory")
       return this->template Build2<LevelSegregatedAFactory>(list, factories, managers);
+    if (name == "SegregationLabelTransferFactory")
+      return this->template Build2<SegregationLabelTransferFactory>(list, factories, managers);
     if (name == "NodeInterfaceAggregationFactory")
       return this->template Build2<NodeInterfaceAggregationFactory>(list, factories, managers);
     if (name == "SuperLUDirectSolver")

@@ -1,10 +1,13 @@
 // The project's own MueLu factories, for what MueLu 13.2 lacks, and the FactoryFactory that lets
 // preset XML files name them like MueLu's own factories:
 //   LevelSegregatedAFactory  the seeds' "filtered A" on every level: drops all entries that couple
-//                            the segregation DOF set (one body) to its complement. MueLu 13.2's
-//                            SegregatedAFactory reads a non-const map, which MapTransferFactory
-//                            cannot provide on coarse levels, and it decides column membership
-//                            with the row owner's map only; this one imports the membership.
+//                            DOFs of two different bodies (a body label per primal DOF). MueLu
+//                            13.2's SegregatedAFactory knows one DOF set (two bodies), reads a
+//                            non-const map, which MapTransferFactory cannot provide on coarse
+//                            levels, and decides column membership with the row owner's map only;
+//                            this one imports the column labels.
+//   SegregationLabelTransferFactory
+//                            the body labels of the next level (through the tentative prolongator).
 //   NodeInterfaceAggregationFactory
 //                            multiplier aggregates copied from the slave-side primal aggregates
 //                            (node-based), with an amalgamation that is consistent for a dual
@@ -23,8 +26,11 @@
 
 namespace multigrid
 {
-  /// The seeds' "filtered A": A_seg(i,j) = A(i,j) if i and j are both in `set` or both outside,
-  /// else 0 (the entry is removed). Column membership is imported from the owners of the columns.
+  /// The seeds' "filtered A": A_seg(i,j) = A(i,j) if DOFs i and j carry the same body label,
+  /// else 0 (the entry is removed). `labels`: one column holding the label of every owned row of
+  /// A (looked up by global id); column labels are imported from the owners of the columns.
+  RCP<Matrix> segregated_matrix(const Matrix& A, const MultiVector& labels);
+  /// Two bodies given as one DOF set: label 1 inside `set`, 0 outside.
   RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set);
 
   /// The SuperLUDirectSolver coarse solver, set up on A, for MueLu's coarse-solver slot of a

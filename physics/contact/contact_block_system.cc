@@ -209,8 +209,16 @@ namespace physics::contact
     };
     info.dual_to_primal_node   = dual_to_primal;
     info.primal_interface_dofs = build_map(interface_dofs);
-    info.segregation_dofs      = build_map(slave_body);
-    info.slave_dofs            = info.segregation_dofs;
+    info.slave_dofs            = build_map(slave_body);
+    info.body_labels = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(result.system.block(0).map, 1);
+    {
+      // Rows of block 0 are the owned nodes in `order`, dim DOFs each.
+      auto        labels = info.body_labels->getDataNonConst(0);
+      std::size_t k      = 0;
+      for (std::size_t i : order)
+        for (int d = 0; d < dim; ++d)
+          labels[k++] = nodes[i].body;
+    }
     info.master_dofs           = build_map(master_body);
     result.system.set_interface(std::move(info));
     result.system.validate("contact Newton system");

@@ -55,6 +55,7 @@ namespace physics::contact
     bool                         slave_body  = false;
     int                          slave_index = -1; ///< index among the slave surface nodes, or -1
     bool                         master_surface = false;
+    int                          body = 0; ///< segregation label: no AMG aggregate holds two bodies' nodes
   };
 
   /// The assembled Newton system and how its rows map back to the assembly numbering.

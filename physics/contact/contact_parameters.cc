@@ -61,7 +61,7 @@ namespace physics::contact
                       "the highest frequencies.");
     prm.declare_entry("Initial velocity", "", Anything(),
                       "Initial velocity of the slave body (dim comma-separated values, m/s; empty: at rest). The "
-                      "master body starts at rest.");
+                      "master body starts at rest. Multi-body contact: every body that is slave in some pair.");
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");
@@ -71,12 +71,82 @@ namespace physics::contact
                       "c_n = factor * E / h in the complementarity function (> 0).");
     prm.declare_entry("Search radius factor", "1", Double(),
                       "Face bounding boxes are enlarged by this times the face size (>= 0).");
+    prm.declare_entry("Contact surface ids", "", Anything(),
+                      "Multi-body contact: comma-separated boundary ids of the contact surfaces; every face with "
+                      "one of them belongs to the body (material id, i.e. gmsh physical surface/volume) of its "
+                      "cell. Empty: two bodies, the faces of 'Slave boundary id' against those of 'Master "
+                      "boundary id'.");
+    prm.declare_entry("Pairs", "auto", Anything(),
+                      "With contact surface ids: 'auto' (every body against every other; the lower body id is "
+                      "the slave, the log says which pairs) or comma-separated 'slave:master' material id pairs, "
+                      "e.g. '1:3, 2:3'. A body may be slave in one pair and master in another.");
+    prm.declare_entry("Self-contact check ids", "", Anything(),
+                      "Comma-separated boundary ids whose faces (besides the contact surfaces) are checked for "
+                      "self-contact after every converged step (2D: a body whose faces cross itself). "
+                      "Self-contact is not handled: the run stops with an error.");
     prm.leave_subsection();
 
     d.solver.declare(prm, residual_fields());
 
     OutputParameters::declare(prm, d, "VTK (solution.pvd + pvtu per step), contact_nodes.csv");
   }
+
+  namespace
+  {
+    /// Comma-separated boundary ids 0..255.
+    std::vector<int> boundary_ids(const std::string& text, const std::string& parameter)
+    {
+      std::vector<int> ids;
+      for (const auto& item : dealii::Utilities::split_string_list(text, ','))
+        {
+          std::size_t used = 0;
+          int         id   = -1;
+          try
+            {
+              id = std::stoi(item, &used);
+            }
+          catch (const std::exception&)
+            {
+              used = 0;
+            }
+          if (used != item.size() || id < 0 || id > 255)
+            throw std::invalid_argument("parameter '" + parameter + "': expected comma-separated boundary ids 0..255, got '" +
+                                        item + "'");
+          ids.push_back(id);
+        }
+      return ids;
+    }
+
+    /// 'auto' (empty result) or comma-separated 'slave:master' material ids.
+    std::vector<std::pair<int, int>> contact_pairs(const std::string& text)
+    {
+      std::vector<std::pair<int, int>> pairs;
+      if (dealii::Utilities::trim(text) == "auto")
+        return pairs;
+      for (const auto& item : dealii::Utilities::split_string_list(text, ','))
+        {
+          const auto parts = dealii::Utilities::split_string_list(item, ':');
+          try
+            {
+              if (parts.size() != 2)
+                throw std::invalid_argument("");
+              std::size_t a = 0, b = 0;
+              const int   s = std::stoi(parts[0], &a), m = std::stoi(parts[1], &b);
+              if (a != parts[0].size() || b != parts[1].size() || s < 0 || m < 0)
+                throw std::invalid_argument("");
+              pairs.emplace_back(s, m);
+            }
+          catch (const std::exception&)
+            {
+              throw std::invalid_argument("parameter 'Pairs': expected 'auto' or 'slave:master' material id pairs, got '" +
+                                          item + "'");
+            }
+        }
+      if (pairs.empty())
+        throw std::invalid_argument("parameter 'Pairs': expected 'auto' or at least one 'slave:master' pair");
+      return pairs;
+    }
+  } // namespace
 
   using parameters::numbers;
   using parameters::positive;
@@ -153,6 +223,11 @@ namespace physics::contact
     search_radius_factor   = prm.get_double("Search radius factor");
     if (search_radius_factor < 0)
       throw std::invalid_argument("parameter 'Search radius factor': expected a value >= 0");
+    surface_ids = boundary_ids(prm.get("Contact surface ids"), "Contact surface ids");
+    watch_ids   = boundary_ids(prm.get("Self-contact check ids"), "Self-contact check ids");
+    pairs       = contact_pairs(prm.get("Pairs"));
+    if (!pairs.empty() && surface_ids.empty())
+      throw std::invalid_argument("parameter 'Pairs': listed pairs need 'Contact surface ids'");
     prm.leave_subsection();
 
     solver.parse(prm, residual_fields());

@@ -71,6 +71,8 @@ namespace physics::contact
       /// Active-set bookkeeping of the last evaluation against the previous one of this step.
       void count_active_set();
       void final_state(ContactRunSummary& summary);
+      /// After a converged step: the largest penetration (log, summary) and the self-contact check.
+      void check_converged_contact(int number, double time);
 
       // Dynamics (generalized-alpha; see common/solid_dynamics.h).
       /// Mass matrix, initial velocity of the slave body, initial acceleration.
@@ -158,8 +160,16 @@ namespace physics::contact
           throw std::invalid_argument(p_.mesh_file + ": no boundary faces with id " + std::to_string(id) +
                                       " (parameter '" + parameter + "')");
       };
-      require(p_.slave_id, "Slave boundary id");
-      require(p_.master_id, "Master boundary id");
+      if (p_.multi_body())
+        for (const int id : p_.surface_ids)
+          require(id, "Contact surface ids");
+      else
+        {
+          require(p_.slave_id, "Slave boundary id");
+          require(p_.master_id, "Master boundary id");
+        }
+      for (const int id : p_.watch_ids)
+        require(id, "Self-contact check ids");
       if (p_.clamped_id >= 0)
         require(p_.clamped_id, "Clamped boundary id");
       if (p_.load_type != "none")
@@ -177,6 +187,10 @@ namespace physics::contact
       settings.master_boundary      = p_.master_id;
       settings.dual                 = p_.dual;
       settings.search_radius_factor = p_.search_radius_factor;
+      settings.surface_boundaries.assign(p_.surface_ids.begin(), p_.surface_ids.end());
+      settings.watch_boundaries.assign(p_.watch_ids.begin(), p_.watch_ids.end());
+      for (const auto& [slave, master] : p_.pairs)
+        settings.pairs.emplace_back(slave, master);
       contact_ = std::make_unique<MortarContact<dim>>(dof_handler_, settings);
       contact_->set_complementarity_parameter(p_.complementarity_factor * p_.youngs_modulus /
                                               contact_->minimal_slave_face_size());
@@ -189,7 +203,8 @@ namespace physics::contact
         ghosts_.add_indices(s);
       }
 
-      // Bodies: the material id next to the slave faces is the slave body.
+      // Two-body mode: the material ids next to the slave faces are the slave body (label 1), the
+      // rest the master body (label 0). Multi-body mode: every material id is a body (its label).
       std::set<types::material_id> slave_materials, master_materials;
       for (const auto& cell : tria_.active_cell_iterators())
         if (cell->is_locally_owned())
@@ -203,8 +218,10 @@ namespace physics::contact
               }
       slave_materials  = Utilities::MPI::compute_set_union(slave_materials, comm_);
       master_materials = Utilities::MPI::compute_set_union(master_materials, comm_);
+      if (p_.multi_body())
+        slave_materials = contact_->slave_bodies();
       for (auto m : slave_materials)
-        if (master_materials.count(m))
+        if (!p_.multi_body() && master_materials.count(m))
           throw std::invalid_argument(p_.mesh_file + ": slave and master faces lie on the same body (material id " +
                                       std::to_string(m) + "); expected two bodies with their own physical volumes");
 
@@ -225,14 +242,15 @@ namespace physics::contact
             if (!owned_.is_element(dof0))
               continue;
             const bool slave_body = slave_materials.count(cell->material_id()) > 0;
+            const int  body       = p_.multi_body() ? static_cast<int>(cell->material_id()) : slave_body;
             auto       it         = nodes.find(dof0);
             if (it != nodes.end())
               {
-                if (it->second.slave_body != slave_body)
+                if (it->second.body != body)
                 {
                   std::ostringstream where;
                   where << cell->vertex(v);
-                  throw std::invalid_argument(p_.mesh_file + ": the two bodies share the node at (" + where.str() +
+                  throw std::invalid_argument(p_.mesh_file + ": two bodies share the node at (" + where.str() +
                                               "); mesh them separately (Geometry.AutoCoherence = 0)");
                 }
                 continue;
@@ -244,6 +262,7 @@ namespace physics::contact
                 node.reference[d] = cell->vertex(v)[d];
               }
             node.slave_body     = slave_body;
+            node.body           = body;
             node.master_surface = master_dofs.count(dof0) > 0;
             if (const auto s = slave_of_dof.find(dof0); s != slave_of_dof.end())
               node.slave_index = s->second;
@@ -294,6 +313,9 @@ namespace physics::contact
       if (dynamics_)
         pcout_ << ", generalized-alpha (rho_inf " << p_.spectral_radius << ", dt " << p_.time_step << " s)";
       pcout_ << "\n";
+      pcout_ << "contact: " << contact_->describe_pairs() << "\n";
+      if (p_.multi_body() && dim == 3)
+        pcout_ << "contact: self-contact is not handled and not detected in 3D\n";
     }
 
     template <int dim>
@@ -562,11 +584,37 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::end_step(int number, double time)
     {
+      check_converged_contact(number, time);
       if (!dynamics_)
         return;
       dynamics_->end_step(u_);
       contact_force_old_ = contact_force_new_; // the converged state's (last evaluation)
       log_energies(number, time);
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::check_converged_contact(int number, double time)
+    {
+      // The last evaluation is the converged state's: its largest penetration, and (2D)
+      // self-contact, which the mortar pairs do not handle: stop rather than let it pass.
+      const auto& state       = contact_->state();
+      double      penetration = 0;
+      for (unsigned int j = 0; j < state.weight.size(); ++j)
+        if (state.covered[j])
+          penetration = std::max(penetration, -state.weighted_gap[j] / state.weight[j]);
+      summary_.max_penetration = std::max(summary_.max_penetration, penetration);
+      JsonLinesLog::Line line;
+      line.add("converged_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
+      log_.write(line);
+      u_ghosted_             = u_;
+      const std::string self = contact_->detect_self_contact(positions(contact_->slave_nodes()),
+                                                             positions(contact_->master_nodes()),
+                                                             positions(contact_->watch_nodes()));
+      if (!self.empty())
+        throw std::runtime_error("step " + std::to_string(number) + " (t = " + std::to_string(time) +
+                                 "): self-contact detected: " + self +
+                                 "; self-contact is not handled (a body is never paired with itself), the run "
+                                 "stops instead of letting the body penetrate itself");
     }
 
     template <int dim>

@@ -44,6 +44,11 @@ namespace physics::contact
     bool   dual                   = true;
     double complementarity_factor = 1.0; ///< c_n = factor * E / h
     double search_radius_factor   = 1.0;
+    // Multi-body contact (empty surface_ids: the two-body mode of slave_id / master_id)
+    std::vector<int>                 surface_ids; ///< contact surface boundary ids (bodies = material ids)
+    std::vector<std::pair<int, int>> pairs;       ///< (slave body, master body); empty: automatic
+    std::vector<int>                 watch_ids;   ///< boundary ids only checked for self-contact
+    bool multi_body() const { return !surface_ids.empty(); }
     // Newton and linear solver
     SolverParameters solver{1e-8, 1e-12, 30, "emin(cheapsimple)", {}, 1e-8, 500, 100};
 
@@ -70,6 +75,8 @@ namespace physics::contact
     std::vector<bool>                  active;
     double                             max_displacement = 0; ///< max |u| over all nodes
     double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
+    /// Largest penetration max(0, -g~_j / w_j) over the covered slave nodes of all converged steps.
+    double max_penetration = 0;
     // Dynamics: after each time step (index 0: the initial state)
     std::vector<double> time, kinetic_energy, strain_energy;
   };

@@ -2,6 +2,7 @@
 
 #include "common/row_exchange.h"
 #include "contact/mortar_integration.h"
+#include "contact/self_contact.h"
 
 #include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
@@ -84,7 +85,8 @@ namespace physics::contact
     /// vertices offsets[f] .. offsets[f+1]-1, ordered around the face for an outward normal.
     struct LocalSurfaceFaces
     {
-      std::vector<bool>             slave;       ///< per face: slave (else master) side
+      std::vector<unsigned int>     boundary;    ///< per face: its boundary id
+      std::vector<unsigned int>     body;        ///< per face: material id of its cell
       std::vector<unsigned int>     offsets{0};  ///< per face, and one past the last
       std::vector<global_dof_index> dofs;        ///< dim per vertex
       std::vector<double>           coordinates; ///< dim per vertex (reference position)
@@ -92,9 +94,23 @@ namespace physics::contact
       template <class Archive>
       void serialize(Archive& ar, const unsigned int)
       {
-        ar& slave& offsets& dofs& coordinates;
+        ar& boundary& body& offsets& dofs& coordinates;
       }
     };
+
+    bool contains(const std::vector<dealii::types::boundary_id>& ids, unsigned int id)
+    {
+      return std::find(ids.begin(), ids.end(), id) != ids.end();
+    }
+
+    /// Is boundary id `id` a contact (or watched) surface of the settings?
+    bool is_surface(const ContactSettings& settings, unsigned int id)
+    {
+      if (settings.surface_boundaries.empty())
+        return id == settings.slave_boundary || id == settings.master_boundary ||
+               contains(settings.watch_boundaries, id);
+      return contains(settings.surface_boundaries, id) || contains(settings.watch_boundaries, id);
+    }
 
     template <int dim>
     LocalSurfaceFaces local_surface_faces(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings)
@@ -109,7 +125,7 @@ namespace physics::contact
               if (!cell->face(f)->at_boundary())
                 continue;
               const auto id = cell->face(f)->boundary_id();
-              if (id != settings.slave_boundary && id != settings.master_boundary)
+              if (!is_surface(settings, id))
                 continue;
               // Around the face: deal.II numbers quadrilateral face vertices lexicographically.
               const auto                face  = cell->face(f);
@@ -139,7 +155,8 @@ namespace physics::contact
                     result.dofs.push_back(face->vertex_dof_index(v, c));
                     result.coordinates.push_back(face->vertex(v)[c]);
                   }
-              result.slave.push_back(id == settings.slave_boundary);
+              result.boundary.push_back(id);
+              result.body.push_back(cell->material_id());
               result.offsets.push_back(result.offsets.back() + order.size());
             }
         }
@@ -164,16 +181,50 @@ namespace physics::contact
     const auto     gathered       = dealii::Utilities::MPI::all_gather(comm, local_surface_faces(dof_handler, settings));
     const unsigned int rank       = dealii::Utilities::MPI::this_mpi_process(comm);
 
-    std::map<global_dof_index, unsigned int> slave_index, master_index; // first DOF -> node
+    if (!settings.surface_boundaries.empty())
+      {
+        std::set<unsigned int> bodies;
+        for (const auto& faces_of_rank : gathered)
+          for (std::size_t f = 0; f < faces_of_rank.body.size(); ++f)
+            if (contains(settings.surface_boundaries, faces_of_rank.boundary[f]))
+              bodies.insert(faces_of_rank.body[f]);
+        pairs_ = std::make_unique<ContactPairs>(settings.pairs, bodies);
+      }
+    // The lists a face belongs to: 0 slave, 1 master, 2 watched only (two-body mode: by boundary
+    // id; multi-body mode: by the pairs of its body).
+    auto lists_of = [&](unsigned int boundary, unsigned int body) {
+      std::vector<int> lists;
+      if (!pairs_)
+        {
+          if (boundary == settings.slave_boundary)
+            lists.push_back(0);
+          else if (boundary == settings.master_boundary)
+            lists.push_back(1);
+        }
+      else if (contains(settings.surface_boundaries, boundary))
+        {
+          if (pairs_->slave_bodies().count(body))
+            lists.push_back(0);
+          if (pairs_->master_bodies().count(body))
+            lists.push_back(1);
+        }
+      if (lists.empty() && contains(settings.watch_boundaries, boundary))
+        lists.push_back(2);
+      return lists;
+    };
+
+    std::array<std::map<global_dof_index, unsigned int>, 3> index_of_list; // first DOF -> node
+    std::array<std::vector<SurfaceNode<dim>>*, 3> nodes_of_list{{&slave_nodes_, &master_nodes_, &watch_nodes_}};
+    std::array<SurfaceFaces*, 3>                  faces_of_list{{&slave_faces_, &master_faces_, &watch_faces_}};
     for (unsigned int r = 0; r < gathered.size(); ++r)
       {
         const auto& faces_of_rank = gathered[r];
-        for (std::size_t f = 0; f < faces_of_rank.slave.size(); ++f)
+        for (std::size_t f = 0; f < faces_of_rank.body.size(); ++f)
+          for (const int list : lists_of(faces_of_rank.boundary[f], faces_of_rank.body[f]))
           {
-            const bool slave = faces_of_rank.slave[f];
-            auto&      index = slave ? slave_index : master_index;
-            auto&      nodes = slave ? slave_nodes_ : master_nodes_;
-            auto&      faces = slave ? slave_faces_ : master_faces_;
+            auto&      index = index_of_list[list];
+            auto&      nodes = *nodes_of_list[list];
+            auto&      faces = *faces_of_list[list];
             std::vector<unsigned int> face_nodes;
             for (unsigned int v = faces_of_rank.offsets[f]; v < faces_of_rank.offsets[f + 1]; ++v)
               {
@@ -194,6 +245,7 @@ namespace physics::contact
               }
             faces.nodes.push_back(face_nodes);
             faces.locally_owned.push_back(r == rank);
+            faces.body.push_back(faces_of_rank.body[f]);
           }
       }
     if (slave_nodes_.empty())
@@ -218,11 +270,52 @@ namespace physics::contact
   std::vector<global_dof_index> MortarContact<dim>::surface_dofs() const
   {
     std::vector<global_dof_index> dofs;
-    for (const auto* list : {&slave_nodes_, &master_nodes_})
+    for (const auto* list : {&slave_nodes_, &master_nodes_, &watch_nodes_})
       for (const auto& node : *list)
         dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
     std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end()); // a node may be slave and master
     return dofs;
+  }
+
+  template <int dim>
+  std::string MortarContact<dim>::describe_pairs() const
+  {
+    if (!pairs_)
+      return "two-body mode: slave boundary id " + std::to_string(settings_.slave_boundary) + ", master boundary id " +
+             std::to_string(settings_.master_boundary);
+    return pairs_->describe();
+  }
+
+  template <int dim>
+  std::string MortarContact<dim>::detect_self_contact(const std::vector<std::array<double, dim>>& slave_x,
+                                                      const std::vector<std::array<double, dim>>& master_x,
+                                                      const std::vector<std::array<double, dim>>& watch_x) const
+  {
+    if constexpr (dim != 2)
+      return "";
+    else
+      {
+        // Every face of the three lists (a face both slave and master twice: harmless).
+        std::vector<BodySegment>                                          segments;
+        const std::array<const SurfaceFaces*, 3>                          faces{{&slave_faces_, &master_faces_, &watch_faces_}};
+        const std::array<const std::vector<SurfaceNode<dim>>*, 3>         nodes{{&slave_nodes_, &master_nodes_, &watch_nodes_}};
+        const std::array<const std::vector<std::array<double, dim>>*, 3> x{{&slave_x, &master_x, &watch_x}};
+        for (int list = 0; list < 3; ++list)
+          for (std::size_t f = 0; f < faces[list]->nodes.size(); ++f)
+            {
+              BodySegment s;
+              s.body = faces[list]->body[f];
+              for (int a = 0; a < 2; ++a)
+                {
+                  const unsigned int k = faces[list]->nodes[f][a];
+                  s.node[a]            = (*nodes[list])[k].dofs[0];
+                  s.x[a]               = {{(*x[list])[k][0], (*x[list])[k][1]}};
+                }
+              segments.push_back(s);
+            }
+        return find_self_crossing(segments);
+      }
   }
 
   template <int dim>
@@ -281,6 +374,9 @@ namespace physics::contact
         tree.query(boost::geometry::index::intersects(face_box(sf, slave_x)), std::back_inserter(hits));
         for (const auto& hit : hits)
           {
+            // Multi-body mode: only master faces of bodies paired with this face's body.
+            if (pairs_ && !pairs_->paired(slave_faces_.body[f], master_faces_.body[hit.second]))
+              continue;
             const auto& mf = master_faces_.nodes[hit.second];
             std::vector<std::array<double, dim>> xm;
             for (unsigned int l : mf)

@@ -18,6 +18,19 @@
 //    tangential constraints (constraint_row() says which row holds which). Inactive: lambda_j = 0 (identity rows). Active: g~_j = 0 linearized (N row) and
 //    tau_j^m . lambda_j = 0 linearized (T and F rows).
 //
+// Bodies and pairs: in the two-body mode (ContactSettings::surface_boundaries empty) the faces
+// with the slave boundary id form the slave surface and those with the master boundary id the
+// master surface, and every slave face is integrated against every master face the search finds.
+// In the multi-body mode the faces with any of the surface ids are the contact faces of the body
+// (material id) of their cell, and a list of pairs (slave body, master body), or the automatic rule
+// "every body against every other, the lower body id is the slave", says which bodies meet: ONE
+// slave surface (the faces of every body that is slave in at least one pair, one multiplier per
+// node) and ONE master surface (the faces of every body that is master in at least one pair), and
+// a slave face is integrated only against the master faces of bodies paired with its own body.
+// A body may thus be slave toward one neighbour and master toward another (its faces are then in
+// both lists; a node may be a slave and a master node). Self-contact is not handled: a body is
+// never paired with itself; detect_self_contact() (2D) finds faces of one body that cross.
+//
 // Parallel layout: the volume mesh is fully distributed (common/distributed_mesh.h); the two
 // contact surfaces are gathered from the ranks' own cells once, at construction, and kept on every
 // rank with the current positions of their nodes and the multipliers (the "redundant interface"
@@ -31,11 +44,15 @@
 #include <deal.II/base/types.h>
 #include <deal.II/dofs/dof_handler.h>
 
+#include "contact/contact_pairs.h"
+
 #include <mpi.h>
 
 #include <array>
 #include <functional>
 #include <map>
+#include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -50,6 +67,13 @@ namespace physics::contact
     bool                       dual            = true;
     double                     complementarity_parameter = 1.0; ///< c_n (stiffness / length)
     double                     search_radius_factor      = 1.0; ///< bounding boxes grow by this x face size
+    /// Multi-body mode: the contact surface ids (empty: the two-body mode of slave/master id).
+    std::vector<dealii::types::boundary_id> surface_boundaries;
+    /// Multi-body mode: (slave body, master body) pairs of material ids; empty: automatic (every
+    /// body with contact faces against every other, the lower id is the slave).
+    std::vector<std::pair<unsigned int, unsigned int>> pairs;
+    /// Faces only checked for self-contact (e.g. the inner surfaces of rings), never integrated.
+    std::vector<dealii::types::boundary_id> watch_boundaries;
   };
 
   /// One contact-surface node (a mesh vertex with dim displacement DOFs).
@@ -66,6 +90,7 @@ namespace physics::contact
   {
     std::vector<std::vector<unsigned int>> nodes;
     std::vector<bool>                      locally_owned; ///< the face's cell is owned here
+    std::vector<unsigned int>              body;          ///< material id of the face's cell
   };
 
   /// A sparse row piece: column (assembly numbering) -> value.
@@ -107,6 +132,18 @@ namespace physics::contact
     unsigned int n_slave_nodes() const { return slave_nodes_.size(); }
     const std::vector<SurfaceNode<dim>>& slave_nodes() const { return slave_nodes_; }
     const std::vector<SurfaceNode<dim>>& master_nodes() const { return master_nodes_; }
+    /// Nodes of the faces that are only checked for self-contact (ContactSettings::watch_boundaries).
+    const std::vector<SurfaceNode<dim>>& watch_nodes() const { return watch_nodes_; }
+    /// Multi-body mode: the bodies that are slave in at least one pair (two-body mode: empty).
+    std::set<unsigned int> slave_bodies() const { return pairs_ ? pairs_->slave_bodies() : std::set<unsigned int>{}; }
+    /// The pairs in use (multi-body mode; the automatic rule's pairs listed), for the log.
+    std::string describe_pairs() const;
+    /// Self-contact check (2D: two faces of the same body among the slave, master and watch
+    /// faces that cross each other without sharing a node). Returns "" or a description of the
+    /// first crossing found (body and position). 3D: not implemented, returns "".
+    std::string detect_self_contact(const std::vector<std::array<double, dim>>& slave_x,
+                                    const std::vector<std::array<double, dim>>& master_x,
+                                    const std::vector<std::array<double, dim>>& watch_x) const;
     /// All DOFs of both surfaces (every rank needs their current values).
     std::vector<global_dof_index> surface_dofs() const;
     /// Smallest slave face size (for c_n = factor E / h).
@@ -135,6 +172,9 @@ namespace physics::contact
 
   private:
     ContactSettings               settings_;
+    std::unique_ptr<ContactPairs> pairs_; ///< multi-body mode only
+    std::vector<SurfaceNode<dim>> watch_nodes_;
+    SurfaceFaces                  watch_faces_;
     global_dof_index              n_dofs_ = 0;
     std::vector<SurfaceNode<dim>> slave_nodes_, master_nodes_;
     SurfaceFaces                  slave_faces_, master_faces_;
