@@ -80,6 +80,16 @@ namespace multigrid
         if (bA.is_null() || bA->Rows() != 2 || bA->Cols() != 2)
           throw InputError("SpaiSchurComplementFactory: expected a 2 x 2 blocked matrix");
         RCP<Matrix> A01 = bA->getMatrix(0, 1), A10 = bA->getMatrix(1, 0), A11 = bA->getMatrix(1, 1);
+        if (A01.is_null() || A10.is_null())
+          {
+            // No coupling stored on this level (contact: no active node, the coarse B blocks are
+            // all zero and Xpetra does not store them): S = C.
+            if (A11.is_null())
+              throw InputError("SpaiSchurComplementFactory: a level without coupling blocks and without C "
+                               "block: the multiplier block is singular");
+            Set(level, "A", A11);
+            return;
+          }
         RCP<Matrix> inverse = Get<RCP<Matrix>>(level, "Ainv");
         using MM            = Xpetra::MatrixMatrix<SC, LO, GO, NO>;
         Teuchos::FancyOStream& out         = GetOStream(MueLu::Statistics2);

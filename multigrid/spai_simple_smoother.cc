@@ -108,14 +108,23 @@ namespace multigrid
         // 2. predictor on A00
         dX->putScalar(0.0);
         predictor_->Apply(*dx1, *r1);
-        // 3.-4. corrector on S with r2 - A10 dx1
-        A10_->apply(*dx1, *schur_rhs);
-        schur_rhs->update(1.0, *r2, -1.0);
+        // 3.-4. corrector on S with r2 - A10 dx1 (a coupling block that is all zero on a coarse
+        // level, e.g. contact without active nodes, is not stored: then r2 alone)
+        if (A10_.is_null())
+          schur_rhs->update(1.0, *r2, 0.0);
+        else
+          {
+            A10_->apply(*dx1, *schur_rhs);
+            schur_rhs->update(1.0, *r2, -1.0);
+          }
         corrector_->Apply(*dx2, *schur_rhs);
         // 5. dx1 -= Â A01 (omega dx2) (or Â A01 dx2, undamped), x2 += omega dx2, then x += dx
-        A01_->apply(*dx2, *coupling);
-        inverse_->apply(*coupling, *update);
-        dx1->update(undamped_update ? -1.0 : -omega, *update, 1.0);
+        if (!A01_.is_null())
+          {
+            A01_->apply(*dx2, *coupling);
+            inverse_->apply(*coupling, *update);
+            dx1->update(undamped_update ? -1.0 : -omega, *update, 1.0);
+          }
         dx2->scale(omega);
         bX->update(1.0, *dX, 1.0);
       }
