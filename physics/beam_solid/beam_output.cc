@@ -1,6 +1,6 @@
 #include "beam_solid/beam_output.h"
 
-#include "temporary_files.h"
+#include "common/run_output.h"
 
 #include <cstdio>
 #include <fstream>
@@ -11,24 +11,6 @@ namespace physics::beam_solid
 {
   namespace
   {
-    /// Writes `file` through a temporary file renamed into place.
-    template <typename Writer>
-    void write_atomically(const std::string& file, const Writer& content)
-    {
-      const std::string tmp = multigrid::unique_temporary_name(file);
-      {
-        std::ofstream out(tmp);
-        if (!out)
-          throw std::runtime_error(file + ": cannot write");
-        out.precision(12);
-        content(out);
-        if (!out)
-          throw std::runtime_error(file + ": write failed");
-      }
-      if (std::rename(tmp.c_str(), file.c_str()) != 0)
-        throw std::runtime_error(file + ": cannot rename " + tmp);
-    }
-
     const char* point_arrays[] = {"displacement", "coupling_line_load"};
   } // namespace
 
@@ -63,6 +45,7 @@ namespace physics::beam_solid
       }
     const std::size_t per_element = subdivisions + 1;
     write_atomically(file, [&](std::ostream& out) {
+      out.precision(12);
       out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
           << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << points.size() << "\" NumberOfCells=\""
           << beam.elements.size() << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
@@ -97,6 +80,7 @@ namespace physics::beam_solid
   void write_beam_pvtu(const std::vector<std::string>& pieces, const std::string& file)
   {
     write_atomically(file, [&](std::ostream& out) {
+      out.precision(12);
       out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
           << "<PUnstructuredGrid GhostLevel=\"0\">\n<PPointData Vectors=\"displacement\">\n";
       for (const char* name : point_arrays)

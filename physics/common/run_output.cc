@@ -68,25 +68,32 @@ namespace physics
     out_.flush();
   }
 
-  void PvdSeries::add(double time, const std::string& pvtu)
+  void write_atomically(const std::string& file, const std::function<void(std::ostream&)>& content)
   {
-    entries_.emplace_back(time, pvtu);
-    const std::string tmp = multigrid::unique_temporary_name(file_);
+    const std::string tmp = multigrid::unique_temporary_name(file);
     {
       std::ofstream out(tmp, std::ios::trunc);
       if (!out)
-        throw std::runtime_error(tmp + ": cannot write the ParaView series index");
+        throw std::runtime_error(file + ": cannot write");
+      content(out);
+      if (!out)
+        throw std::runtime_error(file + ": write failed");
+    }
+    if (std::rename(tmp.c_str(), file.c_str()) != 0)
+      throw std::runtime_error(file + ": cannot rename " + tmp);
+  }
+
+  void PvdSeries::add(double time, const std::string& pvtu)
+  {
+    entries_.emplace_back(time, pvtu);
+    write_atomically(file_, [&](std::ostream& out) {
       out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
           << "  <Collection>\n";
       for (const auto& [t, f] : entries_)
         out << "    <DataSet timestep=\"" << std::setprecision(12) << t << "\" group=\"\" part=\"0\" file=\"" << f
             << "\"/>\n";
       out << "  </Collection>\n</VTKFile>\n";
-      if (!out)
-        throw std::runtime_error(tmp + ": write failed");
-    }
-    if (std::rename(tmp.c_str(), file_.c_str()) != 0)
-      throw std::runtime_error(file_ + ": cannot replace the ParaView series index");
+    });
   }
 
   std::string json_escape(const std::string& s)

@@ -5,13 +5,20 @@
 // so it never lists a step that was not fully written.
 #pragma once
 
+#include <functional>
 #include <fstream>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace physics
 {
+  /// Writes `content(stream)` to `file` through a run-private temporary file renamed into place
+  /// when complete, so an interrupted run never leaves a partial file; throws std::runtime_error
+  /// naming the file if it cannot be written.
+  void write_atomically(const std::string& file, const std::function<void(std::ostream&)>& content);
+
   /// One JSON object per line. Only the rank that opened it writes (the others hold a closed log).
   class JsonLinesLog
   {

@@ -13,25 +13,6 @@ namespace physics
 {
   using namespace dealii;
 
-  namespace
-  {
-    /// Writes `content(stream)` to `file` through a temporary file and a rename.
-    template <typename Writer>
-    void write_atomically(const std::string& file, const Writer& content)
-    {
-      const std::string tmp = multigrid::unique_temporary_name(file);
-      {
-        std::ofstream out(tmp);
-        if (!out)
-          throw std::runtime_error(file + ": cannot write");
-        content(out);
-        if (!out)
-          throw std::runtime_error(file + ": write failed");
-      }
-      std::filesystem::rename(tmp, file);
-    }
-  } // namespace
-
   VtkSeries::VtkSeries(std::string directory, std::string base, MPI_Comm comm)
       : directory_(std::move(directory))
       , base_(std::move(base))
