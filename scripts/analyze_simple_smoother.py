@@ -28,8 +28,6 @@ Only for small systems (a few thousand rows): S is formed densely, and A^-1 B1^T
 """
 import argparse
 import json
-import os
-import sys
 
 import numpy as np
 import scipy.io
@@ -37,22 +35,13 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+import block_system_files  # scripts/, beside this file
+
 
 def read_system(d):
     """K (CSR) and the size of the first (primal) block, from a manifest directory."""
-    sizes, matrix = [], None
-    with open(os.path.join(d, "manifest.txt")) as f:
-        for line in f:
-            w = line.split()
-            if not w or w[0].startswith("#"):
-                continue
-            if w[0] == "block":
-                sizes.append(int(w[2]))
-            elif w[0] == "matrix":
-                matrix = os.path.join(d, w[1])
-    if matrix is None or len(sizes) != 2:
-        sys.exit(f"{d}/manifest.txt: expected a matrix line and two blocks, got {len(sizes)} blocks")
-    return sp.csr_matrix(scipy.io.mmread(matrix)), sizes[0]
+    K, _, blocks = block_system_files.read_system(d, n_blocks=2, need_rhs=False)
+    return K, blocks[0]["size"]
 
 
 def inverse_approximation(A, kind):

@@ -34,26 +34,13 @@ import time
 
 import numpy as np
 import scipy.io
-import scipy.sparse as sp
+
+import block_system_files  # scripts/, beside this file
 
 
 def read_system(d):
     """K (CSR), b, block sizes and the first block's near-nullspace (or None)."""
-    blocks, files = [], {}
-    with open(os.path.join(d, "manifest.txt")) as f:
-        for line in f:
-            w = line.split()
-            if not w or w[0].startswith("#"):
-                continue
-            if w[0] == "block":
-                blocks.append({"size": int(w[2]), "dofs_per_node": int(w[3]),
-                               "nullspace": None if len(w) < 5 or w[4] == "-" else os.path.join(d, w[4])})
-            elif w[0] in ("matrix", "rhs"):
-                files[w[0]] = os.path.join(d, w[1])
-    if "matrix" not in files or "rhs" not in files or len(blocks) != 2:
-        sys.exit(f"{d}/manifest.txt: expected matrix, rhs and two blocks")
-    K = sp.csr_matrix(scipy.io.mmread(files["matrix"]))
-    b = np.asarray(scipy.io.mmread(files["rhs"])).ravel()
+    K, b, blocks = block_system_files.read_system(d, n_blocks=2)
     nullspace = np.asarray(scipy.io.mmread(blocks[0]["nullspace"])) if blocks[0]["nullspace"] else None
     return K, b, blocks, nullspace
 

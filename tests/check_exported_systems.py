@@ -37,6 +37,9 @@ import scipy.sparse.linalg
 TOL = 1e-8
 failures = []
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+import block_system_files  # noqa: E402  (the repository's scripts/)
+
 
 def check(ok, what):
     print(("ok:     " if ok else "FAILED: ") + what, flush=True)
@@ -55,21 +58,7 @@ def run(cmd, ranks, mpiexec):
 
 def read_system(d):
     """matrix (CSR), rhs and block sizes of a manifest directory, read with scipy alone."""
-    blocks, files = [], {}
-    with open(os.path.join(d, "manifest.txt")) as f:
-        for line in f:
-            w = line.split()
-            if not w or w[0].startswith("#"):
-                continue
-            if w[0] == "block":
-                blocks.append({"name": w[1], "size": int(w[2]), "dofs_per_node": int(w[3]),
-                               "nullspace": w[4] if len(w) > 4 and w[4] != "-" else None,
-                               "coordinates": w[5] if len(w) > 5 and w[5] != "-" else None})
-            elif w[0] in ("matrix", "rhs"):
-                files[w[0]] = os.path.join(d, w[1])
-    A = scipy.sparse.csr_matrix(scipy.io.mmread(files["matrix"]))
-    b = np.asarray(scipy.io.mmread(files["rhs"])).ravel()
-    return A, b, blocks
+    return block_system_files.read_system(d)
 
 
 def block_norms(v, blocks):
