@@ -60,8 +60,8 @@ namespace physics
                             DataOut<dim>::type_cell_data);
     out.add_data_vector(von_mises_, "von_mises", DataOut<dim>::type_cell_data);
     out.add_data_vector(partition_, "partition", DataOut<dim>::type_cell_data);
-    // Each rank writes its own cells only: not its ghost cells (nor, on a parallel::shared mesh,
-    // everybody's).
+    // Each rank writes its own cells only, not its ghost layer (the pieces of all ranks then
+    // cover the mesh exactly once).
     out.set_cell_selection([](const typename Triangulation<dim>::cell_iterator& cell) {
       return cell->is_active() && cell->is_locally_owned();
     });
