@@ -17,6 +17,9 @@ using namespace physics::contact;
 
 namespace
 {
+  /// The final slave-node state of a run summary is gathered on rank 0 only.
+  bool root() { return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0; }
+
   std::string output(const std::string& name)
   {
     return std::string(TEST_OUTPUT_DIR) + "/" + name + "-np" +
@@ -107,13 +110,22 @@ TEST(MultiBodyContact, RingsConvergeWithoutPenetration)
   int active = 0;
   for (const bool a : s.active)
     active += a;
-  EXPECT_GT(active, 0);
+  if (root())
+    {
+      EXPECT_GT(active, 0);
+    }
   EXPECT_LT(s.max_penetration, 1e-6 * 10.0);
+  // The slave side is distributed: on more than one rank no rank holds all slave nodes.
+  if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+    {
+      EXPECT_LT(s.max_slave_nodes_held, s.slave_nodes);
+    }
   for (int its : s.linear_iterations)
     EXPECT_LE(its, 100);
   if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
     std::cout << "rings: " << active << " active slave nodes at the end, largest penetration " << s.max_penetration
-              << " mm, " << s.linear_iterations.size() << " Newton steps\n";
+              << " mm, " << s.linear_iterations.size() << " Newton steps, at most " << s.max_slave_nodes_held << " of "
+              << s.slave_nodes << " slave nodes held on a rank\n";
 }
 
 // A pair naming a body without contact faces is an input error naming the parameter.
@@ -146,6 +158,9 @@ TEST_P(PatchTest, UniformPressureIsTransmittedExactly)
   const auto p           = patch(dim, dual);
   const auto s           = run_contact(p, MPI_COMM_WORLD);
   ASSERT_TRUE(s.converged);
+  if (!root())
+    return;
+  ASSERT_GT(s.weight.size(), 0u);
   double area = 0;
   for (std::size_t j = 0; j < s.weight.size(); ++j)
     {
@@ -223,6 +238,8 @@ TEST_P(StandardMultipliers, AMGPresetMatchesSuperLU)
   for (int its : a.linear_iterations)
     EXPECT_LE(its, 100);
   EXPECT_NEAR(a.displacement_l2, d.displacement_l2, 1e-8 * d.displacement_l2);
+  if (!root())
+    return;
   ASSERT_EQ(a.slave_positions.size(), d.slave_positions.size());
   ASSERT_GT(d.slave_positions.size(), 0u);
   double largest = 0;
@@ -268,6 +285,8 @@ TEST(ContactBenchmark, OneRankAndAllRanksAgree)
     sum_one += i;
   EXPECT_LE(std::abs(sum_all - sum_one), 0.1 * sum_one) << "GMRES iterations " << sum_all << " vs " << sum_one;
   EXPECT_NEAR(all.displacement_l2, one.displacement_l2, 1e-8 * one.displacement_l2);
+  if (!root()) // rank 0 holds both runs' slave states (its one-rank run and the gathered one)
+    return;
   ASSERT_EQ(all.slave_positions.size(), one.slave_positions.size());
   ASSERT_GT(one.slave_positions.size(), 0u);
   for (std::size_t j = 0; j < one.slave_positions.size(); ++j)

@@ -78,20 +78,26 @@ namespace physics
     return result;
   }
 
-  void throw_if_any_rank_failed(const std::string& local_error, MPI_Comm comm)
+  std::string lowest_rank_message(const std::string& local_message, MPI_Comm comm)
   {
     int rank = 0, n_ranks = 1;
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &n_ranks);
-    int first = local_error.empty() ? n_ranks : rank;
+    int first = local_message.empty() ? n_ranks : rank;
     MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
     if (first == n_ranks)
-      return;
-    std::string message = local_error;
+      return "";
+    std::string message = local_message;
     int         length  = static_cast<int>(message.size());
     MPI_Bcast(&length, 1, MPI_INT, first, comm);
     message.resize(length);
     MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
-    throw std::invalid_argument(message);
+    return message;
+  }
+
+  void throw_if_any_rank_failed(const std::string& local_error, MPI_Comm comm)
+  {
+    if (const std::string message = lowest_rank_message(local_error, comm); !message.empty())
+      throw std::invalid_argument(message);
   }
 } // namespace physics

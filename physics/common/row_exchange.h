@@ -32,6 +32,10 @@ namespace physics
                                                        const std::function<unsigned int(GlobalIndex)>& owner,
                                                        MPI_Comm comm);
 
+  /// Collective: "" on every rank when `local_message` is empty everywhere, otherwise the
+  /// message of the lowest rank with a non-empty one.
+  std::string lowest_rank_message(const std::string& local_message, MPI_Comm comm);
+
   /// Collective: when `local_error` is non-empty on some rank, every rank throws
   /// std::invalid_argument with the message of the lowest such rank (input errors found by one
   /// rank's share of the work reach the root's error line and nobody waits forever).

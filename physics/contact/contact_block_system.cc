@@ -90,54 +90,80 @@ namespace physics::contact
         coordinates.push_back(node.position);
       }
     new_id.compress(dealii::VectorOperation::insert);
-    dealii::TrilinosWrappers::MPI::Vector new_id_ghosted(owned, ghosts, comm);
-    new_id_ghosted = new_id;
 
-    // Multipliers: inactive then active, rank by rank, slave index order (known everywhere).
-    const unsigned int S = contact.n_slave_nodes();
-    std::vector<GO>    lambda_node(S, -1);
-    {
-      GO next_lambda = 0;
-      for (bool active : {false, true})
-        for (unsigned int r = 0; r < n_ranks; ++r)
-          for (unsigned int j = 0; j < S; ++j)
-            if (contact.slave_nodes()[j].owner == r && state.active[j] == active)
-              lambda_node[j] = next_lambda++;
-    }
+    // Multipliers: inactive then active, rank by rank, by first DOF within a rank. Each rank
+    // numbers the slave nodes it owns (their multiplier rows live here); the new id of
+    // multiplier (j, c) travels, like the displacements' new ids, in a vector of the
+    // displacement layout, at node j's DOF c (the multiplier's assembly index minus n_dofs).
+    std::vector<unsigned int> mine; // owned slave nodes (contact's list), by first DOF
+    for (unsigned int j = 0; j < contact.n_slave_nodes(); ++j)
+      if (contact.owns_slave_node(j))
+        mine.push_back(j);
+    std::sort(mine.begin(), mine.end(), [&](unsigned int a, unsigned int b) {
+      return contact.slave_nodes()[a].dofs[0] < contact.slave_nodes()[b].dofs[0];
+    });
+    std::array<int, 2> mine_counts{};
+    for (unsigned int j : mine)
+      ++mine_counts[state.active[j] ? 1 : 0];
+    std::vector<int> all_mine(2 * n_ranks);
+    MPI_Allgather(mine_counts.data(), 2, MPI_INT, all_mine.data(), 2, MPI_INT, comm);
+    std::array<GO, 2> next_lambda{};
+    GO                n_lambda_nodes = 0;
+    for (int active = 0; active < 2; ++active)
+      for (unsigned int r = 0; r < n_ranks; ++r)
+        {
+          if (r == rank)
+            next_lambda[active] = n_lambda_nodes;
+          n_lambda_nodes += all_mine[2 * r + active];
+        }
+    dealii::TrilinosWrappers::MPI::Vector lambda_id(owned, comm);
+    std::map<unsigned int, GO>            lambda_node; // owned slave node -> multiplier node id
+    for (unsigned int j : mine)
+      {
+        const GO id    = next_lambda[state.active[j] ? 1 : 0]++;
+        lambda_node[j] = id;
+        for (int c = 0; c < dim; ++c)
+          lambda_id[contact.slave_nodes()[j].dofs[c]] = static_cast<double>(dim * id + c);
+      }
+    lambda_id.compress(dealii::VectorOperation::insert);
+
+    // Columns of the contact rows may name DOFs far from this rank (a master row gets the slave
+    // side's columns): the ghosted copies cover them too.
+    dealii::IndexSet primal_columns(ghosts), lambda_columns(n_dofs);
+    for (const auto& [row, entries] : rows)
+      for (const auto& [col, value] : entries)
+        (col >= n_dofs ? lambda_columns : primal_columns).add_index(col >= n_dofs ? col - n_dofs : col);
+    primal_columns.compress();
+    lambda_columns.compress();
+    dealii::TrilinosWrappers::MPI::Vector new_id_ghosted(owned, primal_columns, comm),
+        lambda_id_ghosted(owned, lambda_columns, comm);
+    new_id_ghosted    = new_id;
+    lambda_id_ghosted = lambda_id;
     auto new_gid = [&](GlobalIndex assembly) -> GO {
       if (assembly >= n_dofs)
-        {
-          const GlobalIndex k = assembly - n_dofs;
-          return n_primal + dim * lambda_node[k / dim] + static_cast<GO>(k % dim);
-        }
+        return n_primal + static_cast<GO>(lambda_id_ghosted[assembly - n_dofs]);
       return static_cast<GO>(new_id_ghosted[assembly]);
     };
     std::vector<GO>          dual_gids;
     std::vector<GlobalIndex> dual_assembly;
     std::map<LO, LO>         dual_to_primal;
-    {
-      std::vector<unsigned int> mine;
-      for (unsigned int j = 0; j < S; ++j)
-        if (contact.slave_nodes()[j].owner == rank)
-          mine.push_back(j);
-      std::sort(mine.begin(), mine.end(), [&](unsigned int a, unsigned int b) { return lambda_node[a] < lambda_node[b]; });
-      for (unsigned int j : mine)
-        {
-          dual_to_primal[static_cast<LO>(dual_gids.size() / dim)] = local_node_of_slave.at(j);
-          for (int c = 0; c < dim; ++c)
-            {
-              dual_gids.push_back(n_primal + dim * lambda_node[j] + c);
-              dual_assembly.push_back(contact.multiplier_index(j, c));
-            }
-        }
-    }
+    std::sort(mine.begin(), mine.end(), [&](unsigned int a, unsigned int b) { return lambda_node[a] < lambda_node[b]; });
+    for (unsigned int j : mine)
+      {
+        dual_to_primal[static_cast<LO>(dual_gids.size() / dim)] = local_node_of_slave.at(j);
+        for (int c = 0; c < dim; ++c)
+          {
+            dual_gids.push_back(n_primal + dim * lambda_node[j] + c);
+            dual_assembly.push_back(contact.multiplier_index(j, c));
+          }
+      }
 
     // The merged matrix, row by row in the final distribution.
     std::vector<GO> all_gids(primal_gids);
     all_gids.insert(all_gids.end(), dual_gids.begin(), dual_gids.end());
     result.assembly_index = primal_assembly;
     result.assembly_index.insert(result.assembly_index.end(), dual_assembly.begin(), dual_assembly.end());
-    const GO    n_total = n_primal + dim * static_cast<GO>(S);
+    const GO    n_total = n_primal + dim * n_lambda_nodes;
     auto        row_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_total,
                                                                 Teuchos::ArrayView<const GO>(all_gids), 0,
                                                                 teuchos_comm(comm));
@@ -169,7 +195,7 @@ namespace physics::contact
     blocks[0].global_size   = n_primal;
     blocks[1].name          = "lagrange multiplier";
     blocks[1].dofs_per_node = dim;
-    blocks[1].global_size   = dim * static_cast<GO>(S);
+    blocks[1].global_size   = dim * n_lambda_nodes;
     result.system           = BlockSystem::from_merged(teuchos_comm(comm), blocks, {primal_gids, dual_gids}, A, b);
 
     std::vector<double> flat;

@@ -71,8 +71,8 @@ namespace physics::contact
 
   /// Builds the block system. `K` and `residual` are the structural tangent and residual
   /// (deal.II numbering, owned rows); `rows` and `residual_pieces` are the contact contributions
-  /// already collected on their owners (assembly numbering); `ghosts` must contain every DOF
-  /// referenced as a column here (locally relevant DOFs and all contact-surface DOFs).
+  /// already collected on their owners (assembly numbering); `ghosts` must contain the columns of
+  /// `K` (the locally relevant DOFs); the contact rows' columns are looked up wherever they live.
   template <int dim>
   ContactLinearSystem build_contact_system(MPI_Comm comm, const std::vector<OwnedNode<dim>>& nodes,
                                            const MortarContact<dim>& contact, const dealii::IndexSet& owned,

@@ -22,6 +22,7 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -68,6 +69,8 @@ namespace physics::contact
       /// but no longer a right-hand side concentrated on decoupled rows.
       void lift_prescribed_rows();
       std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
+      /// The multipliers of this rank's slave nodes (dim each) from the ghosted multiplier vector.
+      std::vector<double> slave_multipliers();
       /// Active-set bookkeeping of the last evaluation against the previous one of this step.
       void count_active_set();
       void final_state(ContactRunSummary& summary);
@@ -106,7 +109,9 @@ namespace physics::contact
       std::map<GlobalIndex, double> contact_force_old_, contact_force_new_;
 
       TrilinosWrappers::MPI::Vector u_, u_ghosted_;
-      std::vector<double>           lambda_;
+      /// Multipliers in the displacement layout: lambda_j at slave node j's DOFs (owned rows; the
+      /// ghosted copy reaches the slave nodes of the ghost faces).
+      TrilinosWrappers::MPI::Vector lambda_, lambda_ghosted_;
       JsonLinesLog                  log_;
       std::unique_ptr<VtkSeries>    vtk_;
       ContactRunSummary             summary_;
@@ -114,8 +119,10 @@ namespace physics::contact
       // The step in progress
       double                        time_ = 0, load_factor_ = 0;
       TrilinosWrappers::MPI::Vector u_begin_;      ///< state at the step's start (reset_step)
-      std::vector<double>           lambda_begin_;
+      TrilinosWrappers::MPI::Vector lambda_begin_;
       std::vector<bool>             previous_active_; ///< of the previous evaluation in this step
+      /// No evaluation yet in this step (a rank may hold no slave node: not `previous_active_`'s size).
+      bool                          first_in_step_ = true;
       int                           n_active_ = 0, n_changed_ = 0;
       bool                          active_set_changed_ = true;
       ContactLinearSystem           linear_;      ///< the last linearization
@@ -123,7 +130,7 @@ namespace physics::contact
       /// The last update's Newton direction without the prescribed rows, and its applied length
       /// (line search).
       TrilinosWrappers::MPI::Vector du_direction_;
-      std::vector<double>           dlambda_direction_;
+      TrilinosWrappers::MPI::Vector dlambda_direction_;
       double                        update_length_ = 1;
     };
 
@@ -229,7 +236,8 @@ namespace physics::contact
       std::map<GlobalIndex, int> slave_of_dof;
       std::set<GlobalIndex>      master_dofs;
       for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
-        slave_of_dof[contact_->slave_nodes()[j].dofs[0]] = j;
+        if (contact_->owns_slave_node(j))
+          slave_of_dof[contact_->slave_nodes()[j].dofs[0]] = j;
       for (const auto& node : contact_->master_nodes())
         master_dofs.insert(node.dofs[0]);
       std::map<GlobalIndex, OwnedNode<dim>> nodes;
@@ -297,18 +305,23 @@ namespace physics::contact
         model_.materials[cell->material_id()] = law;
       u_.reinit(owned_, comm_);
       u_ghosted_.reinit(owned_, ghosts_, comm_);
-      lambda_.assign(dim * contact_->n_slave_nodes(), 0.0);
+      lambda_.reinit(owned_, comm_);
+      lambda_ghosted_.reinit(owned_, relevant_, comm_);
 
       if (p_.dynamic())
         setup_dynamics();
 
+      summary_.slave_nodes          = contact_->n_global_slave_nodes();
+      summary_.max_slave_nodes_held =
+          static_cast<long long>(Utilities::MPI::max(static_cast<double>(contact_->n_slave_nodes()), comm_));
       if (rank_ == 0)
         log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
       vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solution", comm_);
       pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells (at most "
              << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), "
-             << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_slave_nodes()
-             << " multipliers (" << (p_.dual ? "dual" : "standard") << "), " << Utilities::MPI::n_mpi_processes(comm_)
+             << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_global_slave_nodes()
+             << " multipliers (" << (p_.dual ? "dual" : "standard") << "; at most " << summary_.max_slave_nodes_held
+             << " of " << summary_.slave_nodes << " slave nodes held on a rank), " << Utilities::MPI::n_mpi_processes(comm_)
              << " ranks, preset " << p_.solver.preset;
       if (dynamics_)
         pcout_ << ", generalized-alpha (rho_inf " << p_.spectral_radius << ", dt " << p_.time_step << " s)";
@@ -433,6 +446,17 @@ namespace physics::contact
     }
 
     template <int dim>
+    std::vector<double> ContactProblem<dim>::slave_multipliers()
+    {
+      lambda_ghosted_ = lambda_;
+      std::vector<double> lambda;
+      for (const auto& node : contact_->slave_nodes())
+        for (unsigned int d = 0; d < dim; ++d)
+          lambda.push_back(lambda_ghosted_[node.dofs[d]]);
+      return lambda;
+    }
+
+    template <int dim>
     void ContactProblem<dim>::begin_step(double time, double step)
     {
       time_        = time;
@@ -440,6 +464,7 @@ namespace physics::contact
       u_begin_     = u_;
       lambda_begin_ = lambda_;
       previous_active_.clear();
+      first_in_step_ = true;
       if (dynamics_)
         {
           dynamics_->set_time_step(step);
@@ -458,15 +483,20 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::count_active_set()
     {
+      // Each node counted by its owner.
       const auto& state = contact_->state();
       n_active_ = n_changed_ = 0;
       for (unsigned int j = 0; j < state.active.size(); ++j)
-        {
-          n_active_ += state.active[j];
-          n_changed_ += !previous_active_.empty() && previous_active_[j] != state.active[j];
-        }
-      active_set_changed_ = previous_active_.empty() || n_changed_ > 0;
+        if (contact_->owns_slave_node(j))
+          {
+            n_active_ += state.active[j];
+            n_changed_ += !first_in_step_ && previous_active_[j] != state.active[j];
+          }
+      n_active_           = Utilities::MPI::sum(n_active_, comm_);
+      n_changed_          = Utilities::MPI::sum(n_changed_, comm_);
+      active_set_changed_ = first_in_step_ || n_changed_ > 0;
       previous_active_    = state.active;
+      first_in_step_      = false;
       summary_.active_set_sizes.push_back(n_active_);
     }
 
@@ -477,8 +507,8 @@ namespace physics::contact
       ContactContribution contribution;
       {
         TimerOutput::Scope scope(timer_, "contact evaluation");
-        contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), lambda_,
-                           [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, comm_, contribution);
+        contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), slave_multipliers(),
+                           [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, contribution);
       }
       if (dynamics_)
         weight_contact_forces(contribution);
@@ -492,9 +522,8 @@ namespace physics::contact
       if (dynamics_)
         residual += dynamics_->history();
       const auto owner = [&](GlobalIndex row) -> unsigned int {
-        if (row >= dof_handler_.n_dofs())
-          return contact_->slave_nodes()[(row - dof_handler_.n_dofs()) / dim].owner;
-        return owning_rank(owned_per_rank_, row);
+        // A multiplier row n_dofs + dof belongs to the owner of its node's DOF.
+        return owning_rank(owned_per_rank_, row >= dof_handler_.n_dofs() ? row - dof_handler_.n_dofs() : row);
       };
       const auto rows = send_rows_to_owners(contribution.matrix, owner, comm_);
       std::map<GlobalIndex, double> pieces = contribution.residual;
@@ -510,10 +539,7 @@ namespace physics::contact
       Linearization result;
       result.system         = &linear_.system;
       result.residual_norms = linear_.system.block_norms(*linear_.system.rhs());
-      double lambda_norm    = 0; // lambda_ is the same on every rank
-      for (const double l : lambda_)
-        lambda_norm += l * l;
-      result.residual_scales = {0.0, std::sqrt(lambda_norm)};
+      result.residual_scales = {0.0, lambda_.l2_norm()};
       lifted_.clear();
       if (iteration == 0)
         lift_prescribed_rows();
@@ -541,8 +567,9 @@ namespace physics::contact
     {
       // From the system's rows (assembly numbering) to u and lambda. Lifted rows go to their
       // targets; they are not part of the direction a line search scales.
+      // Multiplier rows are owned with their slave node's DOFs: every entry lands in owned rows.
       const auto          data = dx.getData(0);
-      dlambda_direction_.assign(lambda_.size(), 0.0);
+      dlambda_direction_.reinit(owned_, comm_);
       du_direction_.reinit(owned_, comm_);
       TrilinosWrappers::MPI::Vector lifted(owned_, comm_);
       for (std::size_t i = 0; i < linear_.assembly_index.size(); ++i)
@@ -556,9 +583,8 @@ namespace physics::contact
             du_direction_[a] = data[i];
         }
       du_direction_.compress(VectorOperation::insert);
+      dlambda_direction_.compress(VectorOperation::insert);
       lifted.compress(VectorOperation::insert);
-      MPI_Allreduce(MPI_IN_PLACE, dlambda_direction_.data(), static_cast<int>(dlambda_direction_.size()), MPI_DOUBLE,
-                    MPI_SUM, comm_);
       u_ += lifted;
       update_length_ = 0;
       set_update_length(1.0);
@@ -569,8 +595,7 @@ namespace physics::contact
     {
       const double change = step_length - update_length_;
       u_.add(change, du_direction_);
-      for (std::size_t k = 0; k < lambda_.size(); ++k)
-        lambda_[k] += change * dlambda_direction_[k];
+      lambda_.add(change, dlambda_direction_);
       update_length_ = step_length;
     }
 
@@ -600,8 +625,9 @@ namespace physics::contact
       const auto& state       = contact_->state();
       double      penetration = 0;
       for (unsigned int j = 0; j < state.weight.size(); ++j)
-        if (state.covered[j])
+        if (contact_->owns_slave_node(j) && state.covered[j])
           penetration = std::max(penetration, -state.weighted_gap[j] / state.weight[j]);
+      penetration = Utilities::MPI::max(penetration, comm_);
       summary_.max_penetration = std::max(summary_.max_penetration, penetration);
       JsonLinesLog::Line line;
       line.add("converged_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
@@ -644,22 +670,53 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::final_state(ContactRunSummary& summary)
     {
+      // The slave nodes' final state, each node from its owner, gathered on rank 0 (for the
+      // summary and the CSV file only) in the order of their reference positions, which does not
+      // depend on the partition.
       u_ghosted_ = u_;
+      lambda_ghosted_ = lambda_;
       const auto& state = contact_->state();
       const auto  xs    = positions(contact_->slave_nodes());
+      // Per node, 9 numbers: reference (3), position (3), pressure, weight, active.
+      std::vector<double> mine;
       for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
+        if (contact_->owns_slave_node(j))
+          {
+            std::array<double, 9> row{};
+            double                ln = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                row[d]     = contact_->slave_nodes()[j].reference[d];
+                row[3 + d] = xs[j][d];
+                ln += contact_->normal(j)[d] * lambda_ghosted_[contact_->slave_nodes()[j].dofs[d]];
+              }
+            row[6] = ln;
+            row[7] = state.weight[j];
+            row[8] = state.active[j] ? 1 : 0;
+            mine.insert(mine.end(), row.begin(), row.end());
+          }
+      auto all = Utilities::MPI::gather(comm_, mine, 0);
+      if (rank_ == 0)
         {
-          std::array<double, 3> x{{0, 0, 0}};
-          for (unsigned int d = 0; d < dim; ++d)
-            x[d] = xs[j][d];
-          summary.slave_positions.push_back(x);
-          double ln = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            ln += contact_->normal(j)[d] * lambda_[dim * j + d];
-          summary.normal_pressure.push_back(ln);
+          std::vector<std::array<double, 9>> nodes;
+          for (const auto& part : all)
+            for (std::size_t i = 0; i + 9 <= part.size(); i += 9)
+              {
+                std::array<double, 9> row;
+                std::copy(part.begin() + i, part.begin() + i + 9, row.begin());
+                nodes.push_back(row);
+              }
+          std::sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
+            return std::lexicographical_compare(a.begin(), a.begin() + 3, b.begin(), b.begin() + 3);
+          });
+          for (const auto& row : nodes)
+            {
+              summary.slave_positions.push_back({{row[3], row[4], row[5]}});
+              summary.normal_pressure.push_back(row[6]);
+              summary.weight.push_back(row[7]);
+              summary.active.push_back(row[8] != 0);
+            }
         }
-      summary.weight           = state.weight;
-      summary.active           = state.active;
       summary.max_displacement = u_.linfty_norm();
       summary.displacement_l2  = u_.l2_norm();
     }
@@ -673,25 +730,22 @@ namespace physics::contact
       u_ghosted_ = u_;
       // Nodal contact fields on the slave nodes, stored in vectors of the displacement layout:
       // the multiplier vector, and (pressure, active flag, normalized gap) as separate scalars.
-      TrilinosWrappers::MPI::Vector multiplier(owned_, comm_), fields(owned_, comm_);
+      TrilinosWrappers::MPI::Vector fields(owned_, comm_);
       const auto&                   state = contact_->state();
       for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
         {
           const auto& node = contact_->slave_nodes()[j];
-          if (!owned_.is_element(node.dofs[0]))
+          if (!contact_->owns_slave_node(j))
             continue;
-          for (unsigned int d = 0; d < dim; ++d)
-            multiplier[node.dofs[d]] = lambda_[dim * j + d];
           fields[node.dofs[0]] = state.normal_pressure[j];
           fields[node.dofs[1]] = state.active[j] ? 1.0 : 0.0;
           if (dim == 3)
             fields[node.dofs[dim - 1]] = state.weight[j] > 0 ? state.weighted_gap[j] / state.weight[j] : 0.0;
         }
-      multiplier.compress(VectorOperation::insert);
       fields.compress(VectorOperation::insert);
-      TrilinosWrappers::MPI::Vector multiplier_g(owned_, relevant_, comm_), fields_g(owned_, relevant_, comm_);
-      multiplier_g = multiplier;
-      fields_g     = fields;
+      TrilinosWrappers::MPI::Vector fields_g(owned_, relevant_, comm_);
+      lambda_ghosted_ = lambda_;
+      fields_g        = fields;
 
       DataOut<dim> out;
       out.attach_dof_handler(dof_handler_);
@@ -707,7 +761,7 @@ namespace physics::contact
           out.add_data_vector(velocity, std::vector<std::string>(dim, "velocity"), DataOut<dim>::type_dof_data,
                               vector_field);
         }
-      out.add_data_vector(multiplier_g, std::vector<std::string>(dim, "contact_multiplier"),
+      out.add_data_vector(lambda_ghosted_, std::vector<std::string>(dim, "contact_multiplier"),
                           DataOut<dim>::type_dof_data, vector_field);
       std::vector<std::string> names = {"contact_pressure", "active"};
       if (dim == 3)

@@ -68,13 +68,16 @@ namespace physics::contact
   struct ContactRunSummary : RunSummary
   {
     std::vector<int>    active_set_sizes;            ///< per Newton step
-    // Final state on the slave side (identical on every rank)
+    // Final state of the slave nodes, on rank 0 only (empty elsewhere), ordered by their
+    // reference positions (independent of the partition)
     std::vector<std::array<double, 3>> slave_positions; ///< current, padded with 0 in 2D
     std::vector<double>                normal_pressure; ///< lambda_n
     std::vector<double>                weight;          ///< w_j = int Phi_j (current slave area share)
     std::vector<bool>                  active;
     double                             max_displacement = 0; ///< max |u| over all nodes
     double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
+    long long slave_nodes          = 0; ///< all ranks
+    long long max_slave_nodes_held = 0; ///< the most slave nodes one rank holds (own + ghost faces)
     /// Largest penetration max(0, -g~_j / w_j) over the covered slave nodes of all converged steps.
     double max_penetration = 0;
     // Dynamics: after each time step (index 0: the initial state)

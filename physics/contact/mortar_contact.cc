@@ -7,6 +7,8 @@
 #include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/boost_adaptors/bounding_box.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/numerics/rtree.h>
 
 #include <Sacado.hpp>
@@ -81,12 +83,14 @@ namespace physics::contact
       return frame;
     }
 
-    /// The contact faces of this rank's cells, flattened for an all-gather: face f has the
-    /// vertices offsets[f] .. offsets[f+1]-1, ordered around the face for an outward normal.
+    /// The contact faces of this rank's own and ghost cells, flattened (for an all-gather of the
+    /// master faces): face f has the vertices offsets[f] .. offsets[f+1]-1, ordered around the
+    /// face for an outward normal.
     struct LocalSurfaceFaces
     {
       std::vector<unsigned int>     boundary;    ///< per face: its boundary id
       std::vector<unsigned int>     body;        ///< per face: material id of its cell
+      std::vector<unsigned int>     owned;       ///< per face: 1 if its cell is locally owned
       std::vector<unsigned int>     offsets{0};  ///< per face, and one past the last
       std::vector<global_dof_index> dofs;        ///< dim per vertex
       std::vector<double>           coordinates; ///< dim per vertex (reference position)
@@ -94,8 +98,35 @@ namespace physics::contact
       template <class Archive>
       void serialize(Archive& ar, const unsigned int)
       {
-        ar& boundary& body& offsets& dofs& coordinates;
+        ar& boundary& body& owned& offsets& dofs& coordinates& components;
       }
+
+      std::size_t size() const { return body.size(); }
+
+      /// The faces f with keep(f), in order.
+      template <class Predicate>
+      LocalSurfaceFaces select(const Predicate& keep) const
+      {
+        LocalSurfaceFaces r;
+        for (std::size_t f = 0; f < size(); ++f)
+          if (keep(f))
+            {
+              r.boundary.push_back(boundary[f]);
+              r.body.push_back(body[f]);
+              r.owned.push_back(owned[f]);
+              for (unsigned int v = offsets[f]; v < offsets[f + 1]; ++v)
+                for (int c = 0; c < components; ++c)
+                  {
+                    r.dofs.push_back(dofs[components * v + c]);
+                    r.coordinates.push_back(coordinates[components * v + c]);
+                  }
+              r.offsets.push_back(r.offsets.back() + offsets[f + 1] - offsets[f]);
+            }
+        r.components = components;
+        return r;
+      }
+
+      int components = 0; ///< DOFs (and coordinates) per vertex
     };
 
     bool contains(const std::vector<dealii::types::boundary_id>& ids, unsigned int id)
@@ -116,9 +147,10 @@ namespace physics::contact
     LocalSurfaceFaces local_surface_faces(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings)
     {
       LocalSurfaceFaces result;
+      result.components = dim;
       for (const auto& cell : dof_handler.active_cell_iterators())
         {
-          if (!cell->is_locally_owned())
+          if (!cell->is_locally_owned() && !cell->is_ghost())
             continue;
           for (const unsigned int f : cell->face_indices())
             {
@@ -157,6 +189,7 @@ namespace physics::contact
                   }
               result.boundary.push_back(id);
               result.body.push_back(cell->material_id());
+              result.owned.push_back(cell->is_locally_owned() ? 1 : 0);
               result.offsets.push_back(result.offsets.back() + order.size());
             }
         }
@@ -167,33 +200,32 @@ namespace physics::contact
   template <int dim>
   MortarContact<dim>::MortarContact(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings)
       : settings_(settings)
+      , comm_(dof_handler.get_triangulation().get_communicator())
+      , owned_(dof_handler.locally_owned_dofs())
       , n_dofs_(dof_handler.n_dofs())
   {
     const auto& fe = dof_handler.get_fe();
     if (fe.n_components() != dim || fe.dofs_per_vertex != dim)
       throw std::invalid_argument("mortar contact: expected a vector-valued linear element with dim DOFs per vertex");
+    dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant_);
 
-    // The surfaces are gathered on every rank (O(surface) data): each rank describes the slave
-    // and master faces of its own cells, every rank then numbers the nodes in the same order
-    // (rank by rank, face by face). The volume mesh itself stays distributed.
-    const MPI_Comm comm           = dof_handler.get_triangulation().get_communicator();
-    const auto     owned_per_rank = dealii::Utilities::MPI::all_gather(comm, dof_handler.locally_owned_dofs());
-    const auto     gathered       = dealii::Utilities::MPI::all_gather(comm, local_surface_faces(dof_handler, settings));
-    const unsigned int rank       = dealii::Utilities::MPI::this_mpi_process(comm);
+    const auto owned_per_rank = dealii::Utilities::MPI::all_gather(comm_, owned_);
+    const auto local          = local_surface_faces(dof_handler, settings);
+    const unsigned int rank   = dealii::Utilities::MPI::this_mpi_process(comm_);
 
     if (!settings.surface_boundaries.empty())
       {
         std::set<unsigned int> bodies;
-        for (const auto& faces_of_rank : gathered)
-          for (std::size_t f = 0; f < faces_of_rank.body.size(); ++f)
-            if (contains(settings.surface_boundaries, faces_of_rank.boundary[f]))
-              bodies.insert(faces_of_rank.body[f]);
-        pairs_ = std::make_unique<ContactPairs>(settings.pairs, bodies);
+        for (std::size_t f = 0; f < local.size(); ++f)
+          if (local.owned[f] && contains(settings.surface_boundaries, local.boundary[f]))
+            bodies.insert(local.body[f]);
+        pairs_ = std::make_unique<ContactPairs>(settings.pairs, dealii::Utilities::MPI::compute_set_union(bodies, comm_));
       }
     // The lists a face belongs to: 0 slave, 1 master, 2 watched only (two-body mode: by boundary
     // id; multi-body mode: by the pairs of its body).
-    auto lists_of = [&](unsigned int boundary, unsigned int body) {
-      std::vector<int> lists;
+    auto in_list = [&](const LocalSurfaceFaces& faces, std::size_t f, int list) {
+      const unsigned int boundary = faces.boundary[f], body = faces.body[f];
+      std::vector<int>   lists;
       if (!pairs_)
         {
           if (boundary == settings.slave_boundary)
@@ -210,60 +242,122 @@ namespace physics::contact
         }
       if (lists.empty() && contains(settings.watch_boundaries, boundary))
         lists.push_back(2);
-      return lists;
+      return std::find(lists.begin(), lists.end(), list) != lists.end();
     };
 
-    std::array<std::map<global_dof_index, unsigned int>, 3> index_of_list; // first DOF -> node
-    std::array<std::vector<SurfaceNode<dim>>*, 3> nodes_of_list{{&slave_nodes_, &master_nodes_, &watch_nodes_}};
-    std::array<SurfaceFaces*, 3>                  faces_of_list{{&slave_faces_, &master_faces_, &watch_faces_}};
-    for (unsigned int r = 0; r < gathered.size(); ++r)
-      {
-        const auto& faces_of_rank = gathered[r];
-        for (std::size_t f = 0; f < faces_of_rank.body.size(); ++f)
-          for (const int list : lists_of(faces_of_rank.boundary[f], faces_of_rank.body[f]))
-          {
-            auto&      index = index_of_list[list];
-            auto&      nodes = *nodes_of_list[list];
-            auto&      faces = *faces_of_list[list];
-            std::vector<unsigned int> face_nodes;
-            for (unsigned int v = faces_of_rank.offsets[f]; v < faces_of_rank.offsets[f + 1]; ++v)
-              {
-                auto it = index.find(faces_of_rank.dofs[dim * v]);
-                if (it == index.end())
-                  {
-                    SurfaceNode<dim> node;
-                    for (unsigned int c = 0; c < dim; ++c)
-                      {
-                        node.dofs[c]      = faces_of_rank.dofs[dim * v + c];
-                        node.reference[c] = faces_of_rank.coordinates[dim * v + c];
-                      }
-                    node.owner = owning_rank(owned_per_rank, node.dofs[0]);
-                    it         = index.emplace(node.dofs[0], nodes.size()).first;
-                    nodes.push_back(node);
-                  }
-                face_nodes.push_back(it->second);
-              }
-            faces.nodes.push_back(face_nodes);
-            faces.locally_owned.push_back(r == rank);
-            faces.body.push_back(faces_of_rank.body[f]);
-          }
-      }
-    if (slave_nodes_.empty())
+    // Appends face f of `faces` to a side's lists, numbering its nodes by first appearance.
+    auto append = [&](const LocalSurfaceFaces& faces, std::size_t f, bool owned_here,
+                      std::map<global_dof_index, unsigned int>& index, std::vector<SurfaceNode<dim>>& nodes,
+                      SurfaceFaces& side) {
+      std::vector<unsigned int> face_nodes;
+      for (unsigned int v = faces.offsets[f]; v < faces.offsets[f + 1]; ++v)
+        {
+          auto it = index.find(faces.dofs[dim * v]);
+          if (it == index.end())
+            {
+              SurfaceNode<dim> node;
+              for (unsigned int c = 0; c < dim; ++c)
+                {
+                  node.dofs[c]      = faces.dofs[dim * v + c];
+                  node.reference[c] = faces.coordinates[dim * v + c];
+                }
+              node.owner = owning_rank(owned_per_rank, node.dofs[0]);
+              it         = index.emplace(node.dofs[0], nodes.size()).first;
+              nodes.push_back(node);
+            }
+          face_nodes.push_back(it->second);
+        }
+      side.nodes.push_back(face_nodes);
+      side.locally_owned.push_back(owned_here);
+      side.body.push_back(faces.body[f]);
+    };
+
+    // Master surface: every rank's own master faces, gathered on every rank in rank order.
+    {
+      const auto gathered = dealii::Utilities::MPI::all_gather(
+          comm_, local.select([&](std::size_t f) { return local.owned[f] && in_list(local, f, 1); }));
+      std::map<global_dof_index, unsigned int> index;
+      for (unsigned int r = 0; r < gathered.size(); ++r)
+        for (std::size_t f = 0; f < gathered[r].size(); ++f)
+          append(gathered[r], f, r == rank, index, master_nodes_, master_faces_);
+    }
+    // Watched faces: this rank's own (the self-contact check exchanges them where needed).
+    {
+      std::map<global_dof_index, unsigned int> index;
+      for (std::size_t f = 0; f < local.size(); ++f)
+        if (local.owned[f] && in_list(local, f, 2))
+          append(local, f, true, index, watch_nodes_, watch_faces_);
+    }
+    // Slave side: the slave faces of own cells, and those of ghost cells that touch a node of an
+    // own slave face or an owned node -- together all faces around every node whose state this
+    // rank needs (a node of an own cell has all its cells among the own and ghost cells).
+    {
+      std::set<global_dof_index> touched; // first DOFs of the nodes of own slave faces
+      for (std::size_t f = 0; f < local.size(); ++f)
+        if (local.owned[f] && in_list(local, f, 0))
+          for (unsigned int v = local.offsets[f]; v < local.offsets[f + 1]; ++v)
+            touched.insert(local.dofs[dim * v]);
+      std::map<global_dof_index, unsigned int> index;
+      for (std::size_t f = 0; f < local.size(); ++f)
+        {
+          if (!in_list(local, f, 0))
+            continue;
+          bool needed = local.owned[f];
+          for (unsigned int v = local.offsets[f]; v < local.offsets[f + 1] && !needed; ++v)
+            needed = touched.count(local.dofs[dim * v]) || owned_.is_element(local.dofs[dim * v]);
+          if (needed)
+            append(local, f, local.owned[f] != 0, index, slave_nodes_, slave_faces_);
+        }
+      finish_slave_side(touched);
+    }
+
+    if (n_global_slave_nodes_ == 0)
       throw std::invalid_argument("no boundary face has the slave boundary id " +
                                   std::to_string(settings.slave_boundary));
     if (master_nodes_.empty())
       throw std::invalid_argument("no boundary face has the master boundary id " +
                                   std::to_string(settings.master_boundary));
-    slave_node_faces_.resize(slave_nodes_.size());
+  }
+
+  template <int dim>
+  void MortarContact<dim>::finish_slave_side(const std::set<global_dof_index>& touched)
+  {
+    const unsigned int S = slave_nodes_.size();
+    needs_state_.assign(S, false);
+    for (unsigned int j = 0; j < S; ++j)
+      {
+        needs_state_[j] = touched.count(slave_nodes_[j].dofs[0]) || owns_slave_node(j);
+        n_global_slave_nodes_ += owns_slave_node(j);
+      }
+    n_global_slave_nodes_ = dealii::Utilities::MPI::sum(n_global_slave_nodes_, comm_);
+
+    // Faces around each node in an order every rank shares (by their nodes' DOFs), so that the
+    // nodal normals, and with them the active set, come out bitwise the same on every rank.
+    slave_node_faces_.assign(S, {});
     for (unsigned int f = 0; f < slave_faces_.nodes.size(); ++f)
       for (unsigned int j : slave_faces_.nodes[f])
         slave_node_faces_[j].push_back(f);
-    normals_.resize(slave_nodes_.size());
-    constraint_row_.resize(slave_nodes_.size());
+    auto key = [&](unsigned int f) {
+      std::vector<global_dof_index> k;
+      for (unsigned int j : slave_faces_.nodes[f])
+        k.push_back(slave_nodes_[j].dofs[0]);
+      return k;
+    };
+    for (auto& faces : slave_node_faces_)
+      std::sort(faces.begin(), faces.end(), [&](unsigned int a, unsigned int b) { return key(a) < key(b); });
+
+    normals_.resize(S);
+    constraint_row_.resize(S);
     h_min_ = std::numeric_limits<double>::max();
-    for (const auto& f : slave_faces_.nodes)
-      for (std::size_t a = 0; a < f.size(); ++a)
-        h_min_ = std::min(h_min_, slave_nodes_[f[a]].reference.distance(slave_nodes_[f[(a + 1) % f.size()]].reference));
+    for (std::size_t f = 0; f < slave_faces_.nodes.size(); ++f)
+      if (slave_faces_.locally_owned[f])
+        {
+          const auto& nodes = slave_faces_.nodes[f];
+          for (std::size_t a = 0; a < nodes.size(); ++a)
+            h_min_ = std::min(h_min_, slave_nodes_[nodes[a]].reference.distance(
+                                          slave_nodes_[nodes[(a + 1) % nodes.size()]].reference));
+        }
+    h_min_ = dealii::Utilities::MPI::min(h_min_, comm_);
   }
 
   template <int dim>
@@ -288,6 +382,39 @@ namespace physics::contact
   }
 
   template <int dim>
+  std::vector<double> MortarContact<dim>::sum_over_ranks(const std::vector<double>& partial) const
+  {
+    // The sums travel in vectors of the displacement layout: v_j in node j's dim DOFs, w_j in its
+    // first DOF of a second vector. Adding into the owners, then updating the ghosts, gives every
+    // rank the owner's total for each of its nodes (all are locally relevant).
+    using dealii::TrilinosWrappers::MPI::Vector;
+    Vector v_add, w_add;
+    v_add.reinit(owned_, relevant_, comm_, true);
+    w_add.reinit(owned_, relevant_, comm_, true);
+    for (std::size_t j = 0; j < slave_nodes_.size(); ++j)
+      {
+        for (int d = 0; d < dim; ++d)
+          if (partial[j * (dim + 1) + d] != 0.0)
+            v_add[slave_nodes_[j].dofs[d]] += partial[j * (dim + 1) + d];
+        if (partial[j * (dim + 1) + dim] != 0.0)
+          w_add[slave_nodes_[j].dofs[0]] += partial[j * (dim + 1) + dim];
+      }
+    v_add.compress(dealii::VectorOperation::add);
+    w_add.compress(dealii::VectorOperation::add);
+    Vector v(owned_, relevant_, comm_), w(owned_, relevant_, comm_);
+    v = v_add;
+    w = w_add;
+    std::vector<double> total(partial.size());
+    for (std::size_t j = 0; j < slave_nodes_.size(); ++j)
+      {
+        for (int d = 0; d < dim; ++d)
+          total[j * (dim + 1) + d] = v[slave_nodes_[j].dofs[d]];
+        total[j * (dim + 1) + dim] = w[slave_nodes_[j].dofs[0]];
+      }
+    return total;
+  }
+
+  template <int dim>
   std::string MortarContact<dim>::detect_self_contact(const std::vector<std::array<double, dim>>& slave_x,
                                                       const std::vector<std::array<double, dim>>& master_x,
                                                       const std::vector<std::array<double, dim>>& watch_x) const
@@ -296,25 +423,34 @@ namespace physics::contact
       return "";
     else
       {
-        // Every face of the three lists (a face both slave and master twice: harmless).
-        std::vector<BodySegment>                                          segments;
-        const std::array<const SurfaceFaces*, 3>                          faces{{&slave_faces_, &master_faces_, &watch_faces_}};
-        const std::array<const std::vector<SurfaceNode<dim>>*, 3>         nodes{{&slave_nodes_, &master_nodes_, &watch_nodes_}};
-        const std::array<const std::vector<std::array<double, dim>>*, 3> x{{&slave_x, &master_x, &watch_x}};
-        for (int list = 0; list < 3; ++list)
-          for (std::size_t f = 0; f < faces[list]->nodes.size(); ++f)
-            {
-              BodySegment s;
-              s.body = faces[list]->body[f];
-              for (int a = 0; a < 2; ++a)
-                {
-                  const unsigned int k = faces[list]->nodes[f][a];
-                  s.node[a]            = (*nodes[list])[k].dofs[0];
-                  s.x[a]               = {{(*x[list])[k][0], (*x[list])[k][1]}};
-                }
-              segments.push_back(s);
-            }
-        return find_self_crossing(segments);
+        auto segments_of = [&](const SurfaceFaces& faces, const std::vector<SurfaceNode<dim>>& nodes,
+                               const std::vector<std::array<double, dim>>& x, bool own_only) {
+          std::vector<BodySegment> segments;
+          for (std::size_t f = 0; f < faces.nodes.size(); ++f)
+            if (!own_only || faces.locally_owned[f])
+              {
+                BodySegment s;
+                s.body = faces.body[f];
+                for (int a = 0; a < 2; ++a)
+                  {
+                    const unsigned int k = faces.nodes[f][a];
+                    s.node[a]            = nodes[k].dofs[0];
+                    s.x[a]               = {{x[k][0], x[k][1]}};
+                  }
+                segments.push_back(s);
+              }
+          return segments;
+        };
+        // This rank's own slave and watched faces, and those of every rank whose faces' box
+        // meets theirs (two crossing faces have meeting boxes); the master surface is here.
+        std::vector<BodySegment> own = segments_of(slave_faces_, slave_nodes_, slave_x, true);
+        for (const auto& s : segments_of(watch_faces_, watch_nodes_, watch_x, true))
+          own.push_back(s);
+        std::vector<BodySegment> segments = exchange_nearby_segments(own, comm_);
+        segments.insert(segments.end(), own.begin(), own.end());
+        for (const auto& s : segments_of(master_faces_, master_nodes_, master_x, false))
+          segments.push_back(s);
+        return lowest_rank_message(find_self_crossing(segments), comm_);
       }
   }
 
@@ -322,11 +458,10 @@ namespace physics::contact
   void MortarContact<dim>::evaluate(const std::vector<std::array<double, dim>>& slave_x,
                                     const std::vector<std::array<double, dim>>& master_x,
                                     const std::vector<double>& lambda,
-                                    const std::function<bool(global_dof_index)>& is_constrained, MPI_Comm comm,
+                                    const std::function<bool(global_dof_index)>& is_constrained,
                                     ContactContribution& out)
   {
-    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
-    const unsigned int S    = slave_nodes_.size();
+    const unsigned int S = slave_nodes_.size();
     out                     = ContactContribution{};
 
     // Master faces in an R-tree of (enlarged) current bounding boxes.
@@ -444,9 +579,9 @@ namespace physics::contact
           }
       }
 
-    // Totals over all ranks (identical everywhere): v_j, w_j; normals; the active set.
-    std::vector<double> total(partial.size());
-    MPI_Allreduce(partial.data(), total.data(), static_cast<int>(partial.size()), MPI_DOUBLE, MPI_SUM, comm);
+    // Totals over all ranks' faces (the same on every rank holding the node): v_j, w_j; normals;
+    // the active set.
+    const std::vector<double> total = sum_over_ranks(partial);
     state_.active.assign(S, false);
     state_.covered.assign(S, false);
     state_.weighted_gap.assign(S, 0.0);
@@ -466,6 +601,8 @@ namespace physics::contact
     };
     for (unsigned int j = 0; j < S; ++j)
       {
+        if (!needs_state_[j]) // some of its faces are not on this rank
+          continue;
         const auto faces =
             adjacent_positions(j, [&](unsigned int k, unsigned int) -> Point<double, dim> { return slave_x[k]; });
         const auto frame = nodal_frame<double, dim>(faces);
@@ -524,7 +661,7 @@ namespace physics::contact
                   value += normals_[j][d] * grad[d];
                 add(constraint_row(j, 0), dof, value);
               }
-        if (slave_nodes_[j].owner != rank)
+        if (!owns_slave_node(j))
           continue;
         if (!state_.active[j])
           {

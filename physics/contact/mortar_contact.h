@@ -31,15 +31,22 @@
 // both lists; a node may be a slave and a master node). Self-contact is not handled: a body is
 // never paired with itself; detect_self_contact() (2D) finds faces of one body that cross.
 //
-// Parallel layout: the volume mesh is fully distributed (common/distributed_mesh.h); the two
-// contact surfaces are gathered from the ranks' own cells once, at construction, and kept on every
-// rank with the current positions of their nodes and the multipliers (the "redundant interface"
-// of production codes: O(surface) data, no volume-sized array). Each rank integrates only the
+// Parallel layout: the volume mesh is fully distributed (common/distributed_mesh.h) and so is the
+// slave side. A rank keeps the slave faces of its own cells and those of its ghost cells that
+// touch them (the faces around each of its slave nodes, for the nodal normals), the multipliers
+// of those nodes, and their contact state. A multiplier lives with its slave node: component c
+// of node j has the assembly index n_dofs + (displacement DOF c of j), so the rank owning the
+// node's DOFs owns its multiplier and constraint rows, and multipliers travel in vectors of the
+// displacement layout (ghosted like the displacements). The nodal sums v_j, w_j of faces on
+// different ranks meet at the node's owner (one add-compress) and come back to every rank that
+// needs them (one ghost update). Only the master surface is gathered on every rank, once, at
+// construction, with the current positions of its nodes (the "redundant master interface" of
+// production codes: O(master surface), no volume-sized array). Each rank integrates only the
 // slave faces of its locally owned cells and finds master candidates with an R-tree of
-// master-face bounding boxes. Rows of nodes owned elsewhere are summed by the distributed
-// matrix/vector (nonlocal adds).
+// master-face bounding boxes. Rows of nodes owned elsewhere are summed by their owners.
 #pragma once
 
+#include <deal.II/base/index_set.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/types.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -108,7 +115,9 @@ namespace physics::contact
     std::map<global_dof_index, double> constraint_residual;
   };
 
-  /// Per slave node, after a Newton step's evaluation (identical on every rank).
+  /// Per slave node of this rank's list, after a Newton step's evaluation. Valid for the nodes
+  /// this rank needs (MortarContact::needs_state: its own slave nodes and the nodes of its own slave
+  /// faces); every rank holding such a node has the same values for it.
   struct NodalContactState
   {
     std::vector<bool>   active;
@@ -122,15 +131,23 @@ namespace physics::contact
   class MortarContact
   {
   public:
-    /// Gathers both surfaces from the ranks' own cells (collective); throws
-    /// std::invalid_argument naming the missing boundary id if a surface is empty.
+    /// Collects this rank's slave faces (own and adjacent ghost cells) and gathers the master
+    /// surface from the ranks' own cells (collective); throws std::invalid_argument naming the
+    /// missing boundary id if a surface is empty on all ranks.
     MortarContact(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings);
 
     /// c_n of the complementarity function (it needs the mesh size, known after construction).
     void set_complementarity_parameter(double c_n) { settings_.complementarity_parameter = c_n; }
 
+    /// The slave nodes this rank holds (of its own and adjacent ghost slave faces).
     unsigned int n_slave_nodes() const { return slave_nodes_.size(); }
+    /// The slave nodes of all ranks (each counted once, by its owner).
+    dealii::types::global_dof_index n_global_slave_nodes() const { return n_global_slave_nodes_; }
     const std::vector<SurfaceNode<dim>>& slave_nodes() const { return slave_nodes_; }
+    /// Is slave node j (of this rank's list) owned here (its DOFs, multipliers, constraint rows)?
+    bool owns_slave_node(unsigned int j) const { return owned_.is_element(slave_nodes_[j].dofs[0]); }
+    /// Does this rank compute node j's contact state (it owns j or j lies on one of its faces)?
+    bool needs_state(unsigned int j) const { return needs_state_[j]; }
     const std::vector<SurfaceNode<dim>>& master_nodes() const { return master_nodes_; }
     /// Nodes of the faces that are only checked for self-contact (ContactSettings::watch_boundaries).
     const std::vector<SurfaceNode<dim>>& watch_nodes() const { return watch_nodes_; }
@@ -139,29 +156,33 @@ namespace physics::contact
     /// The pairs in use (multi-body mode; the automatic rule's pairs listed), for the log.
     std::string describe_pairs() const;
     /// Self-contact check (2D: two faces of the same body among the slave, master and watch
-    /// faces that cross each other without sharing a node). Returns "" or a description of the
-    /// first crossing found (body and position). 3D: not implemented, returns "".
+    /// faces that cross each other without sharing a node). Collective: each rank checks its own
+    /// slave and watch faces, those of the ranks whose faces' bounding box meets theirs (sent
+    /// point to point) and the master surface. Returns, on every rank, "" or a description of a
+    /// crossing (body and position; the lowest rank's find). 3D: not implemented, returns "".
     std::string detect_self_contact(const std::vector<std::array<double, dim>>& slave_x,
                                     const std::vector<std::array<double, dim>>& master_x,
                                     const std::vector<std::array<double, dim>>& watch_x) const;
-    /// All DOFs of both surfaces (every rank needs their current values).
+    /// The DOFs of the master surface and of this rank's slave and watch nodes (the rank needs
+    /// their current values).
     std::vector<global_dof_index> surface_dofs() const;
     /// Smallest slave face size (for c_n = factor E / h).
     double minimal_slave_face_size() const { return h_min_; }
 
-    /// Evaluates D, M, the gaps and their linearization at the current positions of all slave
-    /// and master nodes (reference + displacement, the same on every rank) and the multipliers
-    /// `lambda` (dim per slave node, global Cartesian components). Updates the active set
-    /// (semi-smooth Newton) and fills this rank's contributions. `is_constrained(dof)` marks
-    /// Dirichlet DOFs: contact entries in their rows and columns are dropped.
+    /// Evaluates D, M, the gaps and their linearization at the current positions of this rank's
+    /// slave nodes and of all master nodes (reference + displacement) and the multipliers
+    /// `lambda` (dim per slave node of this rank's list, global Cartesian components). Updates
+    /// the active set (semi-smooth Newton) and fills this rank's contributions (collective).
+    /// `is_constrained(dof)` marks Dirichlet DOFs: contact entries in their rows and columns are
+    /// dropped.
     void evaluate(const std::vector<std::array<double, dim>>& slave_x,
                   const std::vector<std::array<double, dim>>& master_x, const std::vector<double>& lambda,
-                  const std::function<bool(global_dof_index)>& is_constrained, MPI_Comm comm,
-                  ContactContribution& out);
+                  const std::function<bool(global_dof_index)>& is_constrained, ContactContribution& out);
 
     const NodalContactState& state() const { return state_; }
-    /// Multiplier component c of slave node j in assembly numbering.
-    global_dof_index multiplier_index(unsigned int j, unsigned int c) const { return n_dofs_ + dim * j + c; }
+    /// Multiplier component c of slave node j in assembly numbering: n_dofs + the node's
+    /// displacement DOF c (the multiplier lives with its node).
+    global_dof_index multiplier_index(unsigned int j, unsigned int c) const { return n_dofs_ + slave_nodes_[j].dofs[c]; }
     /// Row (assembly numbering) of constraint m of slave node j: m = 0 normal, m > 0 tangential.
     global_dof_index constraint_row(unsigned int j, int m) const
     {
@@ -171,7 +192,18 @@ namespace physics::contact
     const std::array<double, dim>& normal(unsigned int j) const { return normals_[j]; }
 
   private:
+    /// v_j (dim) and w_j of this rank's faces summed over all ranks' faces at every node this
+    /// rank holds (partial: dim + 1 values per node of slave_nodes_).
+    std::vector<double> sum_over_ranks(const std::vector<double>& partial) const;
+    /// After the slave faces are collected: which nodes need a state (own nodes, nodes of own
+    /// faces: `touched`), the faces around each node in a rank-independent order, h_min.
+    void finish_slave_side(const std::set<global_dof_index>& touched);
+
     ContactSettings               settings_;
+    MPI_Comm                      comm_;
+    dealii::IndexSet              owned_, relevant_; ///< this rank's owned and relevant DOFs
+    global_dof_index              n_global_slave_nodes_ = 0;
+    std::vector<bool>             needs_state_;
     std::unique_ptr<ContactPairs> pairs_; ///< multi-body mode only
     std::vector<SurfaceNode<dim>> watch_nodes_;
     SurfaceFaces                  watch_faces_;

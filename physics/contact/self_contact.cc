@@ -1,6 +1,7 @@
 #include "contact/self_contact.h"
 
 #include <deal.II/base/bounding_box.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/boost_adaptors/bounding_box.h>
 #include <deal.II/numerics/rtree.h>
 
@@ -59,5 +60,42 @@ namespace physics::contact
           }
       }
     return "";
+  }
+
+  std::vector<BodySegment> exchange_nearby_segments(const std::vector<BodySegment>& own, MPI_Comm comm)
+  {
+    // Box of the own segments (lo, hi; empty: lo > hi), gathered from every rank (O(ranks)).
+    std::array<double, 4> box{{1e300, 1e300, -1e300, -1e300}};
+    for (const auto& s : own)
+      for (const auto& x : s.x)
+        for (int d = 0; d < 2; ++d)
+          {
+            box[d]     = std::min(box[d], x[d]);
+            box[2 + d] = std::max(box[2 + d], x[d]);
+          }
+    const auto boxes = dealii::Utilities::MPI::all_gather(comm, box);
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    // Segments travel flattened: body, the two node ids, the four coordinates.
+    std::vector<double> flat;
+    for (const auto& s : own)
+      flat.insert(flat.end(), {static_cast<double>(s.body), static_cast<double>(s.node[0]),
+                               static_cast<double>(s.node[1]), s.x[0][0], s.x[0][1], s.x[1][0], s.x[1][1]});
+    std::map<unsigned int, std::vector<double>> send;
+    for (unsigned int r = 0; r < boxes.size(); ++r)
+      if (r != rank && !own.empty() && boxes[r][0] <= box[2] && box[0] <= boxes[r][2] && boxes[r][1] <= box[3] &&
+          box[1] <= boxes[r][3])
+        send[r] = flat;
+    std::vector<BodySegment> received;
+    for (const auto& [from, data] : dealii::Utilities::MPI::some_to_some(comm, send))
+      for (std::size_t i = 0; i + 7 <= data.size(); i += 7)
+        {
+          BodySegment s;
+          s.body    = static_cast<unsigned int>(data[i]);
+          s.node[0] = static_cast<dealii::types::global_dof_index>(data[i + 1]);
+          s.node[1] = static_cast<dealii::types::global_dof_index>(data[i + 2]);
+          s.x       = {{{{data[i + 3], data[i + 4]}}, {{data[i + 5], data[i + 6]}}}};
+          received.push_back(s);
+        }
+    return received;
   }
 } // namespace physics::contact

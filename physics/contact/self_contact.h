@@ -5,6 +5,8 @@
 
 #include <deal.II/base/types.h>
 
+#include <mpi.h>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -23,4 +25,9 @@ namespace physics::contact
   /// "" or a description (body, position) of the first crossing of two segments of one body that
   /// share no node. R-tree of the segments' boxes: O(n log n), no all-pairs loop.
   std::string find_self_crossing(const std::vector<BodySegment>& segments);
+
+  /// Collective: the segments of the other ranks whose bounding box (of all their `own`
+  /// segments) meets this rank's. Two segments that cross have meeting boxes, so a rank that
+  /// checks its own segments with these sees every crossing involving one of its own.
+  std::vector<BodySegment> exchange_nearby_segments(const std::vector<BodySegment>& own, MPI_Comm comm);
 } // namespace physics::contact
