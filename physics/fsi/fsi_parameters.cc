@@ -15,6 +15,12 @@ namespace physics::fsi
   {
     const FsiParameters d;
     prm.enter_subsection("Mesh");
+    MeshParameters::declare_entries(
+        prm, d,
+        "Empty: the generated 2D channel (the entries below). Else fluid = physical volume (2D: surface) 1, "
+        "structure = 2, one conforming mesh; physical surfaces (2D: lines) 1 inlet plane, 2 outlet plane, 5 the "
+        "structure's outer surface; the interface is where the two volumes meet (meshes/fsi_tube_3d.geo).");
+    prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension (3 needs a Mesh file).");
     prm.declare_entry("Length", std::to_string(d.length), Double(), "Channel length L (> 0; CGS: cm).");
     prm.declare_entry("Height", std::to_string(d.height), Double(),
                       "Channel height H between the walls (> 0).");
@@ -74,6 +80,11 @@ namespace physics::fsi
   void FsiParameters::parse(dealii::ParameterHandler& prm)
   {
     prm.enter_subsection("Mesh");
+    parse_entries(prm);
+    dimension = prm.get_integer("Dimension");
+    if (dimension == 3 && mesh_file.empty())
+      throw std::invalid_argument("parameter 'Mesh file' (Mesh): expected a mesh file with Dimension = 3 "
+                                  "(the generated channel is 2D)");
     length         = positive(prm.get_double("Length"), "Length (Mesh)");
     height         = positive(prm.get_double("Height"), "Height (Mesh)");
     wall_thickness = positive(prm.get_double("Wall thickness"), "Wall thickness (Mesh)");
