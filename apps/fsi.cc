@@ -1,5 +1,5 @@
 // fsi: condensed (monolithic) fluid/solid interaction on matching interface meshes (seed 001,
-// FSI.md): incompressible Navier-Stokes in ALE form (Q1/Q1, PSPG/SUPG/grad-div, BDF1), Saint
+// FSI.md): incompressible Navier-Stokes in ALE form (Q1/Q1, PSPG/SUPG/grad-div, BDF1/2), Saint
 // Venant-Kirchhoff walls (generalized-alpha), a pseudo-elastic mesh; the interface traction
 // condensed out, one Newton iteration for all three fields with the full Jacobian (shape
 // derivatives included), each linear system a 3-block BlockSystem (structure, fluid, ALE).
@@ -23,7 +23,7 @@ namespace
        fsi --help | --print-parameters
 
 Condensed fluid/solid interaction (seed 001): incompressible Newtonian fluid (ALE Navier-Stokes,
-Q1/Q1 with PSPG/SUPG/grad-div stabilization, BDF1) in a 2D channel between two Saint
+Q1/Q1 with PSPG/SUPG/grad-div stabilization, BDF1 or BDF2) in a 2D channel between two Saint
 Venant-Kirchhoff walls (generated; fsi_channel_2d.prm) or in a gmsh mesh of fluid and structure
 (Mesh/Mesh file, 2D or 3D: the pressure-wave tube, fsi_tube_3d.prm), walls (generalized-alpha)
 clamped at both ends, a pseudo-elastic ALE mesh, a pressure pulse on the inlet. Matching
@@ -49,12 +49,13 @@ int main(int argc, char** argv)
     const auto summary = physics::fsi::run_condensed_fsi(p, MPI_COMM_WORLD);
     if (root)
       {
-        const auto&  wall    = summary.max_wall_displacement;
-        const double largest = wall.empty() ? 0.0 : *std::max_element(wall.begin(), wall.end());
+        const auto&        wall    = summary.max_wall_displacement;
+        const double       largest = wall.empty() ? 0.0 : *std::max_element(wall.begin(), wall.end());
         std::ostringstream extra;
-        extra << "system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs << ", ALE "
-              << summary.ale_dofs << " DOFs; largest relative mass imbalance " << std::setprecision(3)
-              << summary.max_mass_imbalance << "; largest wall displacement " << std::setprecision(12) << largest;
+        extra << "system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs
+              << ", ALE " << summary.ale_dofs << " DOFs; largest relative mass imbalance "
+              << std::setprecision(3) << summary.max_mass_imbalance << "; largest wall displacement "
+              << std::setprecision(12) << largest;
         std::cout << summary.summary_line("time", extra.str()) << "\n"
                   << std::setprecision(16) << "Displacement norms: structure l2 " << summary.structure_l2
                   << ", max " << summary.structure_max << ", ALE l2 " << summary.ale_l2 << ", fluid l2 "

@@ -117,7 +117,7 @@ namespace physics::fsi
     mesh_free_.reinit(mesh_relevant_);
     mesh_free_.close();
     fluid_model_.properties = {p_.fluid_density, p_.fluid_viscosity};
-    fluid_model_.scheme     = FluidTimeScheme::bdf1;
+    fluid_model_.scheme     = p_.fluid_bdf2 ? FluidTimeScheme::bdf2 : FluidTimeScheme::bdf1;
     DynamicSparsityPattern fluid_pattern(fluid_relevant_),
         shape_pattern(fluid_dofs_.n_dofs(), mesh_dofs_.n_dofs(), fluid_relevant_);
     DoFTools::make_sparsity_pattern(fluid_dofs_, fluid_pattern, fluid_constraints_, false);
@@ -128,7 +128,8 @@ namespace physics::fsi
       if (cell->is_locally_owned())
         {
           cell->get_dof_indices(fi);
-          typename DoFHandler<dim>::active_cell_iterator(&fluid_tria_, cell->level(), cell->index(), &mesh_dofs_)
+          typename DoFHandler<dim>::active_cell_iterator(&fluid_tria_, cell->level(), cell->index(),
+                                                         &mesh_dofs_)
               ->get_dof_indices(mi);
           for (const auto i : fi)
             for (const auto j : mi)
@@ -165,7 +166,7 @@ namespace physics::fsi
   void CondensedFsi<dim>::make_boundary_constraints()
   {
     // On a fully distributed mesh the outer faces of the ghost layer look like boundary faces
-    // with id 0 (= inlet): the Dirichlet DOFs are found on the owned DOFs only and then given
+    // with id 0 (never an id of this app): the Dirichlet DOFs are found on the owned DOFs only and then given
     // to their ghost copies (common/distributed_mesh.h).
     const Functions::ZeroFunction<dim> zero(dim);
     solid_constraints_.reinit(solid_relevant_);
@@ -302,14 +303,16 @@ namespace physics::fsi
 
   template <int dim>
   void CondensedFsi<dim>::assemble_fluid(TrilinosWrappers::MPI::Vector& R, TrilinosWrappers::SparseMatrix* K,
-                                    TrilinosWrappers::SparseMatrix* S)
+                                         TrilinosWrappers::SparseMatrix* S)
   {
     TrilinosWrappers::MPI::Vector old(fluid_owned_, fluid_relevant_, comm_),
-        mesh_old(mesh_owned_, mesh_relevant_, comm_), mesh_older(mesh_owned_, mesh_relevant_, comm_);
+        older(fluid_owned_, fluid_relevant_, comm_), mesh_old(mesh_owned_, mesh_relevant_, comm_),
+        mesh_older(mesh_owned_, mesh_relevant_, comm_);
     old        = x_F_old_;
+    older      = x_F_older_;
     mesh_old   = d_G_old_;
     mesh_older = d_G_older_;
-    FluidState<dim> state{&x_F_ghosted_, &old, &old, &d_G_ghosted_, &mesh_old, &mesh_older};
+    FluidState<dim> state{&x_F_ghosted_, &old, &older, &d_G_ghosted_, &mesh_old, &mesh_older};
     R.reinit(fluid_owned_, comm_);
     if (K != nullptr)
       *K = 0;
@@ -322,9 +325,10 @@ namespace physics::fsi
   template <int dim>
   multigrid::BlockSystem CondensedFsi<dim>::assemble(std::vector<double>& norms)
   {
-    const double w   = dynamics_->scheme().force_weight(); // 1 - af
-    const double af  = 1.0 - w;
-    const double tau = BdfWeights::of(fluid_model_.scheme).a0 / dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
+    const double w  = dynamics_->scheme().force_weight(); // 1 - af
+    const double af = 1.0 - w;
+    const double tau =
+        BdfWeights::of(fluid_model_.scheme).a0 / dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
 
     // Structure: w r(d) + c_m M d + h_n, its Jacobian w K + c_m M.
     TrilinosWrappers::MPI::Vector r_S(solid_owned_, comm_), R_F, R_G(mesh_owned_, comm_);

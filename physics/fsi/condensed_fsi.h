@@ -68,6 +68,7 @@ namespace physics::fsi
     double ale_poisson_ratio = 0.3, ale_stiffening = 1.0;
     // Load and time
     double inlet_pressure = 1.3332e4, pulse_duration = 3e-3, time_step = 1e-4, end_time = 1e-3;
+    bool   fluid_bdf2        = false; ///< the fluid's (and the interface velocity's) BDF2 instead of BDF1
     bool   shape_derivatives = true;
     bool   check_jacobian    = false; ///< testing: J v against central differences in step 2
     // Newton and linear solver

@@ -6,10 +6,10 @@
 // 2 x 2 (x 2) Gauss points this integral is exact on Q1 cells (the integrand cof(F) : Grad u is
 // of degree 3 at most per reference direction), so the divergence theorem makes
 //   inflow - outflow = int_Gamma u . n ds   (u = grid velocity on the wall),
-// and the BDF grid velocity makes the wall flux the rate of the fluid volume up to the
+// and the BDF grid velocity makes the wall flux the fluid's BDF volume rate, up to the
 // difference between the volume swept in the step and its end-point approximation. Logged per
-// step: volume change dV = V_{n+1} - V_n, dt (Q_in - Q_out), their difference relative to
-// dt Q_in, and the wall flux.
+// step: the volume change of the BDF stencil dV = a0 V_{n+1} + a1 V_n + a2 V_{n-1} (BDF1:
+// V_{n+1} - V_n), dt (Q_in - Q_out), their difference relative to dt Q_in, and the wall flux.
 #include "fsi/condensed_fsi_problem.h"
 
 #include <deal.II/base/mpi.h>
@@ -31,9 +31,9 @@ namespace physics::fsi
     MappingQEulerian<dim, TrilinosWrappers::MPI::Vector> moved(1, mesh_dofs_, d_G_ghosted_);
     const QGauss<dim>                                    quadrature(2);
     const QGauss<dim - 1>                                face_quadrature(2);
-    FEValues<dim>                                        cell_values(moved, fluid_fe_, quadrature, update_JxW_values);
-    FEFaceValues<dim>                                    face_values(moved, fluid_fe_, face_quadrature,
-                                     update_values | update_normal_vectors | update_JxW_values);
+    FEValues<dim>                    cell_values(moved, fluid_fe_, quadrature, update_JxW_values);
+    FEFaceValues<dim>                face_values(moved, fluid_fe_, face_quadrature,
+                                                 update_values | update_normal_vectors | update_JxW_values);
     const FEValuesExtractors::Vector velocity(0);
     std::vector<Tensor<1, dim>>      u(face_quadrature.size());
     FluidBalance                     b;
@@ -52,8 +52,9 @@ namespace physics::fsi
                 for (unsigned q = 0; q < face_quadrature.size(); ++q)
                   flux += u[q] * face_values.normal_vector(q) * face_values.JxW(q);
                 const auto id = cell->face(f)->boundary_id();
-                (id == boundary::inlet ? b.inflow : id == boundary::outlet ? b.outflow : b.wall_flux) +=
-                    id == boundary::inlet ? -flux : flux;
+                (id == boundary::inlet    ? b.inflow
+                 : id == boundary::outlet ? b.outflow
+                                          : b.wall_flux) += id == boundary::inlet ? -flux : flux;
               }
         }
     for (double* v : {&b.volume, &b.inflow, &b.outflow, &b.wall_flux})
@@ -88,12 +89,14 @@ namespace physics::fsi
       }
     max_wall_displacement_.push_back(Utilities::MPI::max(largest, comm_));
 
-    const FluidBalance b       = fluid_balance();
-    const double       dt      = fluid_model_.time_step;
-    const double       change  = b.volume - volume_old_;
-    const double       net     = dt * (b.inflow - b.outflow);
-    const double       balance = change - net;
+    const FluidBalance b        = fluid_balance();
+    const double       dt       = fluid_model_.time_step;
+    const BdfWeights   bdf      = BdfWeights::of(fluid_model_.scheme);
+    const double       change   = bdf.a0 * b.volume + bdf.a1 * volume_old_ + bdf.a2 * volume_older_;
+    const double       net      = dt * (b.inflow - b.outflow);
+    const double       balance  = change - net;
     const double       relative = std::abs(balance) / std::max(std::abs(dt * b.inflow), 1e-300);
+    volume_older_               = volume_old_;
     volume_old_                 = b.volume;
     if (fluid_model_.boundary_pressures.at(boundary::inlet) != 0)
       max_mass_imbalance_ = std::max(max_mass_imbalance_, relative);

@@ -149,10 +149,10 @@ namespace physics::fsi
       dealii::Tensor<1, dim> outward;
     };
     std::vector<WallNode> wall_nodes_;
-    std::vector<double>   station_x_;   ///< ascending
-    std::vector<int>      station_count_; ///< interface nodes per station, all ranks
-    double                volume_old_ = 0; ///< fluid volume at t_n
+    std::vector<double>   station_x_;                         ///< ascending
+    std::vector<int>      station_count_;                     ///< interface nodes per station, all ranks
+    double                volume_old_ = 0, volume_older_ = 0; ///< fluid volume at t_n, t_{n-1}
     double                max_mass_imbalance_ = 0; ///< relative, over the steps with inlet pressure
-    std::ofstream         wall_csv_;       ///< rank 0
+    std::ofstream         wall_csv_;               ///< rank 0
   };
 } // namespace physics::fsi

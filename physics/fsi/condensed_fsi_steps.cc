@@ -213,7 +213,7 @@ namespace physics::fsi
       fluid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "fluid", comm_);
       solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "structure", comm_);
       sync_interface();
-      volume_old_ = fluid_balance().volume;
+      volume_old_ = volume_older_ = fluid_balance().volume;
       if (rank_ == 0)
         {
           // The wall profile, one row per converged step: time, then the mean outward wall

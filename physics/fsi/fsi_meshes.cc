@@ -118,7 +118,7 @@ namespace physics::fsi
 
   template <int dim>
   void read_fsi_meshes(const std::string& file, int gmsh_refinement, int global_refinements,
-                       const std::string& work_directory,
+                       const std::string&                              work_directory,
                        parallel::fullydistributed::Triangulation<dim>& fluid,
                        parallel::fullydistributed::Triangulation<dim>& structure)
   {
