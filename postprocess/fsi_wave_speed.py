@@ -8,7 +8,8 @@ fastest (the largest rise of the displacement per step, refined by a parabola th
 rates around it: the middle of the front, which diffusion in time spreads symmetrically), and
 also where the displacement first reaches half of the pulse's height (the largest displacement
 at the fit range's first station before the end of the run); a least-squares line x(t) through
-the arrival times gives the speed. With --young, --thickness, --radius and --density the
+the arrival times gives the speed (stations the front has not passed by the end of the run are
+left out and shown as "not reached"). With --young, --thickness, --radius and --density the
 Moens-Korteweg speed c = sqrt(E h / (2 rho_F R)) is printed beside it (and, for reference, the
 speed of a thick wall from Lame's solution, which is lower for h/R = 0.2), and with --tolerance
 the exit status says whether the speed of --method is within that relative distance of Moens-Korteweg.
@@ -43,17 +44,17 @@ def read_profile(path):
 
 
 def steepest_rise(times, series):
-    """Time of the largest rise per step (parabola through the neighbouring rates)."""
+    """Time of the largest rise per step (parabola through the neighbouring rates); None if the
+    largest rise is the first or the last step's (the front has not passed within the run)."""
     rates = [(series[i + 1] - series[i]) / (times[i + 1] - times[i]) for i in range(len(series) - 1)]
     mid = [0.5 * (times[i] + times[i + 1]) for i in range(len(series) - 1)]
     k = max(range(len(rates)), key=lambda i: rates[i])
-    if 0 < k < len(rates) - 1:
-        a, b, c = rates[k - 1], rates[k], rates[k + 1]
-        denominator = a - 2 * b + c
-        if denominator != 0:
-            shift = 0.5 * (a - c) / denominator
-            return mid[k] + shift * (mid[k + 1] - mid[k])
-    return mid[k]
+    if not 0 < k < len(rates) - 1:
+        return None
+    a, b, c = rates[k - 1], rates[k], rates[k + 1]
+    denominator = a - 2 * b + c
+    shift = 0.5 * (a - c) / denominator if denominator != 0 else 0.0
+    return mid[k] + shift * (mid[k + 1] - mid[k])
 
 
 def first_crossing(times, series, level):
@@ -118,11 +119,13 @@ def main():
         series = [row[k] for row in rows]
         t_slope = steepest_rise(times, series)
         t_half = first_crossing(times, series, 0.5 * height)
-        slope_points.append((t_slope, stations[k]))
+        if t_slope is not None:
+            slope_points.append((t_slope, stations[k]))
         if t_half is not None:
             half_points.append((t_half, stations[k]))
-        print(f"{stations[k]:8.4f} {t_slope:12.6e} {t_half if t_half is not None else float('nan'):12.6e}")
-    speeds = {"slope": fit_speed(slope_points),
+        shown = [f"{t:12.6e}" if t is not None else f"{'not reached':>12}" for t in (t_slope, t_half)]
+        print(f"{stations[k]:8.4f} {shown[0]} {shown[1]}")
+    speeds = {"slope": fit_speed(slope_points) if len(slope_points) >= 2 else float("nan"),
               "half": fit_speed(half_points) if len(half_points) >= 2 else float("nan")}
     print(f"pulse speed (steepest rise): {speeds['slope']:.6g}; (half height {height:.4g}): {speeds['half']:.6g}")
     status = 0

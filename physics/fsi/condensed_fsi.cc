@@ -153,7 +153,7 @@ namespace physics::fsi
     for (auto* v : {&d_S_, &d_S_old_, &d_S_older_, &d_S_begin_, &dd_S_})
       v->reinit(solid_owned_, comm_);
     d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
-    v_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
+    u_interface_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
     for (auto* v : {&x_F_, &x_F_old_, &x_F_older_, &x_F_begin_, &dx_F_})
       v->reinit(fluid_owned_, comm_);
     x_F_ghosted_.reinit(fluid_owned_, fluid_relevant_, comm_);
@@ -287,11 +287,11 @@ namespace physics::fsi
     TrilinosWrappers::MPI::Vector v(d_S_);
     v *= bdf.a0 / dt;
     v.add(bdf.a1 / dt, d_S_old_, bdf.a2 / dt, d_S_older_);
-    v_S_ghosted_ = v;
-    d_S_ghosted_ = d_S_;
+    u_interface_ghosted_ = v;
+    d_S_ghosted_         = d_S_;
     for (const auto& [f, sd] : fluid_partner_)
       if (fluid_owned_.is_element(f))
-        x_F_[f] = v_S_ghosted_[sd];
+        x_F_[f] = u_interface_ghosted_[sd];
     for (const auto& [m, sd] : mesh_partner_)
       if (mesh_owned_.is_element(m))
         d_G_[m] = d_S_ghosted_[sd];

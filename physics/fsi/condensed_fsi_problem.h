@@ -124,8 +124,9 @@ namespace physics::fsi
     std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
     multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
-    // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies
-    dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_older_, d_S_ghosted_, v_S_ghosted_;
+    // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies; the BDF
+    // derivative of d^S on the structure numbering (the interface velocities, sync_interface)
+    dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_older_, d_S_ghosted_, u_interface_ghosted_;
     dealii::TrilinosWrappers::MPI::Vector x_F_, x_F_old_, x_F_older_, x_F_ghosted_;
     dealii::TrilinosWrappers::MPI::Vector d_G_, d_G_old_, d_G_older_, d_G_ghosted_;
     std::map<GlobalIndex, double>         lambda_old_; ///< lambda_n on the owned structure interface DOFs
