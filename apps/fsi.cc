@@ -1,11 +1,13 @@
 // fsi: condensed (monolithic) fluid/solid interaction on matching interface meshes (seed 001,
-// FSI.md): incompressible Navier-Stokes in ALE form (Q1/Q1, PSPG/SUPG/grad-div, BDF1), Saint
+// FSI.md): incompressible Navier-Stokes in ALE form (Q1/Q1, PSPG/SUPG/grad-div, BDF1/2), Saint
 // Venant-Kirchhoff walls (generalized-alpha), a pseudo-elastic mesh; the interface traction
 // condensed out, one Newton iteration for all three fields with the full Jacobian (shape
 // derivatives included), each linear system a 3-block BlockSystem (structure, fluid, ALE).
-// The case: a 2D channel between two elastic walls, a pressure pulse on the inlet.
+// The cases: a 2D channel between two elastic walls (generated) or a gmsh mesh of fluid and
+// structure (the 3D pressure-wave tube), a pressure pulse on the inlet.
 //
 //   mpirun -np 2 fsi apps/fsi_channel_2d.prm
+//   mpirun -np 2 fsi apps/fsi_tube_3d.prm
 //   fsi --print-parameters      (all parameters with their documentation)
 #include "common/app_main.h"
 #include "fsi/condensed_fsi.h"
@@ -20,14 +22,19 @@ namespace
   const char* usage = R"USAGE(usage: fsi [PARAMETER_FILE.prm] [--set "Section/Entry=value"]...
        fsi --help | --print-parameters
 
-Condensed fluid/solid interaction (seed 001): a 2D channel of incompressible Newtonian fluid
-(ALE Navier-Stokes, Q1/Q1 with PSPG/SUPG/grad-div stabilization, BDF1) between two Saint
-Venant-Kirchhoff walls (generalized-alpha) clamped at both ends, a pseudo-elastic ALE mesh, a
-pressure pulse on the inlet. Matching interface nodes; the interface traction is condensed onto
-the structure's interface rows; Newton with the full Jacobian, each system a 3-block BlockSystem
-[structure | fluid | ALE] solved with the chosen preset (direct(superlu) by default).
-Writes Directory/run_log.jsonl (one JSON object per Newton step), Directory/fluid.pvd and
-Directory/structure.pvd (ParaView), and on request every Newton system for solve_block_system.
+Condensed fluid/solid interaction (seed 001): incompressible Newtonian fluid (ALE Navier-Stokes,
+Q1/Q1 with PSPG/SUPG/grad-div stabilization, BDF1 or BDF2) in a 2D channel between two Saint
+Venant-Kirchhoff walls (generated; fsi_channel_2d.prm) or in a gmsh mesh of fluid and structure
+(Mesh/Mesh file, 2D or 3D: the pressure-wave tube, fsi_tube_3d.prm), walls (generalized-alpha)
+clamped at both ends, a pseudo-elastic ALE mesh, a pressure pulse on the inlet. Matching
+interface nodes; the interface traction is condensed onto the structure's interface rows;
+Newton with the full Jacobian, each system a 3-block BlockSystem [structure | fluid | ALE]
+solved with the chosen preset (direct(superlu) by default).
+Writes Directory/run_log.jsonl (one JSON object per Newton step; per time step the fluid's mass
+balance, event "fluid_balance"), Directory/wall_displacement.csv (per time step the mean outward
+wall displacement at every axial station of the interface nodes; postprocess/fsi_wave_speed.py),
+Directory/fluid.pvd and Directory/structure.pvd (ParaView), and on request every Newton system
+for solve_block_system.
 
   --print-parameters   print every parameter with its default and documentation, then exit
   --set S/E=V          override one parameter after reading the file
@@ -42,11 +49,13 @@ int main(int argc, char** argv)
     const auto summary = physics::fsi::run_condensed_fsi(p, MPI_COMM_WORLD);
     if (root)
       {
-        const auto&  wall    = summary.max_wall_displacement;
-        const double largest = wall.empty() ? 0.0 : *std::max_element(wall.begin(), wall.end());
+        const auto&        wall    = summary.max_wall_displacement;
+        const double       largest = wall.empty() ? 0.0 : *std::max_element(wall.begin(), wall.end());
         std::ostringstream extra;
-        extra << "system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs << ", ALE "
-              << summary.ale_dofs << " DOFs; largest wall displacement " << std::setprecision(12) << largest;
+        extra << "system: structure " << summary.structure_dofs << ", fluid " << summary.fluid_dofs
+              << ", ALE " << summary.ale_dofs << " DOFs; largest relative mass imbalance "
+              << std::setprecision(3) << summary.max_mass_imbalance << "; largest wall displacement "
+              << std::setprecision(12) << largest;
         std::cout << summary.summary_line("time", extra.str()) << "\n"
                   << std::setprecision(16) << "Displacement norms: structure l2 " << summary.structure_l2
                   << ", max " << summary.structure_max << ", ALE l2 " << summary.ale_l2 << ", fluid l2 "

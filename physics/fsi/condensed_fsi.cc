@@ -20,13 +20,15 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 namespace physics::fsi
 {
   using namespace dealii;
   using multigrid::GO;
 
-  CondensedFsi::CondensedFsi(const FsiParameters& p, MPI_Comm comm)
+  template <int dim>
+  CondensedFsi<dim>::CondensedFsi(const FsiParameters& p, MPI_Comm comm)
       : p_(p)
       , comm_(comm)
       , rank_(Utilities::MPI::this_mpi_process(comm))
@@ -42,42 +44,39 @@ namespace physics::fsi
   {
   }
 
-  void CondensedFsi::make_meshes()
+  template <int dim>
+  void CondensedFsi<dim>::make_meshes()
   {
-    // Fluid [0, L] x [0, H]; walls below and above with the same nodes along x (matching).
     // Both meshes fully distributed: built by the group roots, partitioned by METIS each on its
     // own (common/distributed_mesh.h), so a rank stores only its cells and their ghost layer.
-    const unsigned nx = p_.cells_x, nf = p_.cells_fluid_y, nw = p_.cells_wall_y;
-    create_distributed_mesh<dim>(fluid_tria_, [&](Triangulation<dim>& fluid) {
-      GridGenerator::subdivided_hyper_rectangle(fluid, {nx, nf}, Point<dim>(),
-                                                Point<dim>(p_.length, p_.height), true);
-    });
-    create_distributed_mesh<dim>(solid_tria_, [&](Triangulation<dim>& solid) {
-      Triangulation<dim> lower, upper;
-      GridGenerator::subdivided_hyper_rectangle(lower, {nx, nw}, Point<dim>(0, -p_.wall_thickness),
-                                                Point<dim>(p_.length, 0));
-      GridGenerator::subdivided_hyper_rectangle(upper, {nx, nw}, Point<dim>(0, p_.height),
-                                                Point<dim>(p_.length, p_.height + p_.wall_thickness));
-      GridGenerator::merge_triangulations(lower, upper, solid);
-      const double tol = 1e-9 * p_.length;
-      for (const auto& cell : solid.active_cell_iterators())
-        {
-          cell->set_material_id(0);
-          for (const unsigned f : cell->face_indices())
-            if (cell->at_boundary(f))
+    if (!p_.mesh_file.empty())
+      read_fsi_meshes<dim>(p_.mesh_file, p_.gmsh_refinement, p_.global_refinements, p_.output_directory,
+                           fluid_tria_, solid_tria_);
+    else if constexpr (dim == 2)
+      make_channel_meshes({p_.length, p_.height, p_.wall_thickness, static_cast<unsigned>(p_.cells_x),
+                           static_cast<unsigned>(p_.cells_fluid_y), static_cast<unsigned>(p_.cells_wall_y)},
+                          fluid_tria_, solid_tria_);
+    // (dim 3 without a mesh file is refused by FsiParameters::parse)
+    // The fluid's bounding box (over all ranks): its size sets the tolerance of node matching,
+    // its centre line (along x) the outward direction of the walls.
+    for (unsigned d = 0; d < dim; ++d)
+      {
+        double low = std::numeric_limits<double>::max(), high = -low;
+        for (const auto& cell : fluid_tria_.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const unsigned v : cell->vertex_indices())
               {
-                const Point<dim> c = cell->face(f)->center();
-                cell->face(f)->set_boundary_id(std::abs(c[1]) < tol               ? bottom
-                                               : std::abs(c[1] - p_.height) < tol ? top
-                                               : std::abs(c[0]) < tol             ? inlet
-                                               : std::abs(c[0] - p_.length) < tol ? outlet
-                                                                                  : outer);
+                low  = std::min(low, cell->vertex(v)[d]);
+                high = std::max(high, cell->vertex(v)[d]);
               }
-        }
-    });
+        fluid_low_[d]  = Utilities::MPI::min(low, comm_);
+        fluid_high_[d] = Utilities::MPI::max(high, comm_);
+      }
+    geometry_tolerance_ = 1e-9 * fluid_low_.distance(fluid_high_);
   }
 
-  void CondensedFsi::setup_fields()
+  template <int dim>
+  void CondensedFsi<dim>::setup_fields()
   {
     fluid_dofs_.distribute_dofs(fluid_fe_);
     mesh_dofs_.distribute_dofs(vector_fe_);
@@ -118,7 +117,7 @@ namespace physics::fsi
     mesh_free_.reinit(mesh_relevant_);
     mesh_free_.close();
     fluid_model_.properties = {p_.fluid_density, p_.fluid_viscosity};
-    fluid_model_.scheme     = FluidTimeScheme::bdf1;
+    fluid_model_.scheme     = p_.fluid_bdf2 ? FluidTimeScheme::bdf2 : FluidTimeScheme::bdf1;
     DynamicSparsityPattern fluid_pattern(fluid_relevant_),
         shape_pattern(fluid_dofs_.n_dofs(), mesh_dofs_.n_dofs(), fluid_relevant_);
     DoFTools::make_sparsity_pattern(fluid_dofs_, fluid_pattern, fluid_constraints_, false);
@@ -129,7 +128,8 @@ namespace physics::fsi
       if (cell->is_locally_owned())
         {
           cell->get_dof_indices(fi);
-          DoFHandler<dim>::active_cell_iterator(&fluid_tria_, cell->level(), cell->index(), &mesh_dofs_)
+          typename DoFHandler<dim>::active_cell_iterator(&fluid_tria_, cell->level(), cell->index(),
+                                                         &mesh_dofs_)
               ->get_dof_indices(mi);
           for (const auto i : fi)
             for (const auto j : mi)
@@ -150,10 +150,10 @@ namespace physics::fsi
     for (const auto& [m, s] : mesh_partner_)
       if (mesh_owned_.is_element(m))
         solid_ghosts_.add_index(s);
-    for (auto* v : {&d_S_, &d_S_old_, &d_S_begin_, &dd_S_})
+    for (auto* v : {&d_S_, &d_S_old_, &d_S_older_, &d_S_begin_, &dd_S_})
       v->reinit(solid_owned_, comm_);
     d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
-    v_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
+    u_interface_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
     for (auto* v : {&x_F_, &x_F_old_, &x_F_older_, &x_F_begin_, &dx_F_})
       v->reinit(fluid_owned_, comm_);
     x_F_ghosted_.reinit(fluid_owned_, fluid_relevant_, comm_);
@@ -162,15 +162,16 @@ namespace physics::fsi
     d_G_ghosted_.reinit(mesh_owned_, mesh_relevant_, comm_);
   }
 
-  void CondensedFsi::make_boundary_constraints()
+  template <int dim>
+  void CondensedFsi<dim>::make_boundary_constraints()
   {
     // On a fully distributed mesh the outer faces of the ghost layer look like boundary faces
-    // with id 0 (= inlet): the Dirichlet DOFs are found on the owned DOFs only and then given
+    // with id 0 (never an id of this app): the Dirichlet DOFs are found on the owned DOFs only and then given
     // to their ghost copies (common/distributed_mesh.h).
     const Functions::ZeroFunction<dim> zero(dim);
     solid_constraints_.reinit(solid_relevant_);
     AffineConstraints<double> mesh_planes(mesh_relevant_);
-    for (const types::boundary_id id : {inlet, outlet})
+    for (const types::boundary_id id : {boundary::inlet, boundary::outlet})
       {
         add_boundary_constraints(solid_dofs_, id, zero, solid_constraints_);
         add_boundary_constraints(mesh_dofs_, id, zero, mesh_planes); // ALE fixed on the planes
@@ -185,14 +186,15 @@ namespace physics::fsi
         mesh_fixed_.insert(m);
   }
 
-  void CondensedFsi::match_interface()
+  template <int dim>
+  void CondensedFsi<dim>::match_interface()
   {
     // Every rank's owned interface nodes of the three fields, gathered everywhere
     // (interface_nodes.h); fluid velocities and ALE displacements matched to structure nodes.
     const auto   solid_nodes = gather_interface_nodes(solid_dofs_, dim, on_interface, comm_);
     const auto   fluid_nodes = gather_interface_nodes(fluid_dofs_, dim, on_interface, comm_);
     const auto   mesh_nodes  = gather_interface_nodes(mesh_dofs_, dim, on_interface, comm_);
-    const double tol         = 1e-9 * p_.length;
+    const double tol         = geometry_tolerance_;
     fluid_partner_           = match_interface_nodes(fluid_nodes, solid_nodes, tol);
     mesh_partner_            = match_interface_nodes(mesh_nodes, solid_nodes, tol);
     // The clamped interface DOFs (the walls' end nodes) of every rank: partners of fluid DOFs
@@ -210,6 +212,31 @@ namespace physics::fsi
         removed_mesh_.push_back(m);
         mesh_fixed_.erase(m);
       }
+    // The wall stations: the distinct axial positions of the interface nodes; the owned
+    // structure interface nodes with their station and outward normal.
+    for (const auto& x : solid_nodes.positions)
+      station_x_.push_back(x[0]);
+    std::sort(station_x_.begin(), station_x_.end());
+    station_x_.erase(std::unique(station_x_.begin(), station_x_.end(),
+                                 [tol](double a, double b) { return std::abs(a - b) <= tol; }),
+                     station_x_.end());
+    station_count_.assign(station_x_.size(), 0);
+    const Point<dim> centre((fluid_low_ + fluid_high_) / 2);
+    for (std::size_t k = 0; k < solid_nodes.positions.size(); ++k)
+      {
+        const Point<dim>& x       = solid_nodes.positions[k];
+        const auto        station = static_cast<unsigned>(
+            std::lower_bound(station_x_.begin(), station_x_.end(), x[0] - tol) - station_x_.begin());
+        ++station_count_[station];
+        Tensor<1, dim> outward = x - centre;
+        outward[0]             = 0;
+        if (outward.norm() > tol)
+          outward /= outward.norm();
+        const GlobalIndex first = solid_nodes.dofs[k * solid_nodes.components];
+        if (solid_owned_.is_element(first))
+          wall_nodes_.push_back({first, station, outward});
+      }
+
     n_solid_ = solid_dofs_.n_dofs();
     n_fluid_ = fluid_dofs_.n_dofs() - interface_velocities_.size();
     n_mesh_  = mesh_dofs_.n_dofs() - removed_mesh_.size();
@@ -221,7 +248,8 @@ namespace physics::fsi
         mesh_inner_owned_.push_back(m);
   }
 
-  std::pair<int, GlobalIndex> CondensedFsi::field_dof(GO g) const
+  template <int dim>
+  std::pair<int, GlobalIndex> CondensedFsi<dim>::field_dof(GO g) const
   {
     // Owned rows are contiguous per field and rank, in the fields' own order.
     if (g < n_solid_)
@@ -231,36 +259,39 @@ namespace physics::fsi
     return {2, mesh_inner_owned_.at(g - mesh_gid(mesh_inner_owned_.front()))};
   }
 
-  GO CondensedFsi::fluid_gid(GlobalIndex f) const
+  template <int dim>
+  GO CondensedFsi<dim>::fluid_gid(GlobalIndex f) const
   {
     const auto before = std::lower_bound(interface_velocities_.begin(), interface_velocities_.end(), f) -
                         interface_velocities_.begin();
     return n_solid_ + static_cast<GO>(f) - before;
   }
 
-  GO CondensedFsi::mesh_gid(GlobalIndex m) const
+  template <int dim>
+  GO CondensedFsi<dim>::mesh_gid(GlobalIndex m) const
   {
     const auto before =
         std::lower_bound(removed_mesh_.begin(), removed_mesh_.end(), m) - removed_mesh_.begin();
     return n_solid_ + n_fluid_ + static_cast<GO>(m) - before;
   }
 
-  void CondensedFsi::sync_interface()
+  template <int dim>
+  void CondensedFsi<dim>::sync_interface()
   {
-    // v^S_{n+1} from the Newmark relations with a_{n+1} eliminated:
-    //   v = gamma/(beta dt) (d - d_n) + (1 - gamma/beta) v_n + dt (1 - gamma/(2 beta)) a_n.
-    const auto&                   s   = dynamics_->scheme();
-    const double                  tau = s.gamma() / (s.beta() * s.time_step());
+    // The kinematic condition u^F_Gamma = d/dt d^S_Gamma through the fluid's time integrator
+    // (BDF: (a0 d_{n+1} + a1 d_n + a2 d_{n-1}) / dt), the stencil of the grid velocity: the
+    // fluid on the wall moves with the mesh (no flow through the moving wall), so that
+    // inflow - outflow = volume change holds for the discrete fluid (record_step logs it).
+    const BdfWeights              bdf = BdfWeights::of(fluid_model_.scheme);
+    const double                  dt  = dynamics_->scheme().time_step();
     TrilinosWrappers::MPI::Vector v(d_S_);
-    v.add(-1.0, d_S_old_);
-    v *= tau;
-    v.add(1.0 - s.gamma() / s.beta(), dynamics_->velocity(),
-          s.time_step() * (1.0 - s.gamma() / (2.0 * s.beta())), dynamics_->acceleration());
-    v_S_ghosted_ = v;
-    d_S_ghosted_ = d_S_;
+    v *= bdf.a0 / dt;
+    v.add(bdf.a1 / dt, d_S_old_, bdf.a2 / dt, d_S_older_);
+    u_interface_ghosted_ = v;
+    d_S_ghosted_         = d_S_;
     for (const auto& [f, sd] : fluid_partner_)
       if (fluid_owned_.is_element(f))
-        x_F_[f] = v_S_ghosted_[sd];
+        x_F_[f] = u_interface_ghosted_[sd];
     for (const auto& [m, sd] : mesh_partner_)
       if (mesh_owned_.is_element(m))
         d_G_[m] = d_S_ghosted_[sd];
@@ -270,15 +301,18 @@ namespace physics::fsi
     d_G_ghosted_ = d_G_;
   }
 
-  void CondensedFsi::assemble_fluid(TrilinosWrappers::MPI::Vector& R, TrilinosWrappers::SparseMatrix* K,
-                                    TrilinosWrappers::SparseMatrix* S)
+  template <int dim>
+  void CondensedFsi<dim>::assemble_fluid(TrilinosWrappers::MPI::Vector& R, TrilinosWrappers::SparseMatrix* K,
+                                         TrilinosWrappers::SparseMatrix* S)
   {
     TrilinosWrappers::MPI::Vector old(fluid_owned_, fluid_relevant_, comm_),
-        mesh_old(mesh_owned_, mesh_relevant_, comm_), mesh_older(mesh_owned_, mesh_relevant_, comm_);
+        older(fluid_owned_, fluid_relevant_, comm_), mesh_old(mesh_owned_, mesh_relevant_, comm_),
+        mesh_older(mesh_owned_, mesh_relevant_, comm_);
     old        = x_F_old_;
+    older      = x_F_older_;
     mesh_old   = d_G_old_;
     mesh_older = d_G_older_;
-    FluidState<dim> state{&x_F_ghosted_, &old, &old, &d_G_ghosted_, &mesh_old, &mesh_older};
+    FluidState<dim> state{&x_F_ghosted_, &old, &older, &d_G_ghosted_, &mesh_old, &mesh_older};
     R.reinit(fluid_owned_, comm_);
     if (K != nullptr)
       *K = 0;
@@ -288,12 +322,13 @@ namespace physics::fsi
                             &mesh_free_);
   }
 
-  multigrid::BlockSystem CondensedFsi::assemble(std::vector<double>& norms)
+  template <int dim>
+  multigrid::BlockSystem CondensedFsi<dim>::assemble(std::vector<double>& norms)
   {
-    const double w   = dynamics_->scheme().force_weight(); // 1 - af
-    const double af  = 1.0 - w;
-    const auto&  s   = dynamics_->scheme();
-    const double tau = s.gamma() / (s.beta() * s.time_step());
+    const double w  = dynamics_->scheme().force_weight(); // 1 - af
+    const double af = 1.0 - w;
+    const double tau =
+        BdfWeights::of(fluid_model_.scheme).a0 / dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
 
     // Structure: w r(d) + c_m M d + h_n, its Jacobian w K + c_m M.
     TrilinosWrappers::MPI::Vector r_S(solid_owned_, comm_), R_F, R_G(mesh_owned_, comm_);
@@ -435,4 +470,6 @@ namespace physics::fsi
     return system;
   }
 
+  template class CondensedFsi<2>;
+  template class CondensedFsi<3>;
 } // namespace physics::fsi

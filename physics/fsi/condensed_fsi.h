@@ -3,8 +3,8 @@
 // from the common layer), the ALE fluid (ale_fluid.h) and the pseudo-elastic mesh
 // (ale_mesh_motion.h) in one Newton iteration, the interface traction eliminated:
 //
-//   kinematic:  u^F_Gamma = v^S_Gamma(d^S_{n+1}) = tau (d^S_Gamma - d^S_n) + (1 - gamma/beta) v_n
-//                             + dt (1 - gamma/(2 beta)) a_n,           tau = gamma / (beta dt),
+//   kinematic:  u^F_Gamma = d/dt d^S_Gamma through the fluid's BDF (the grid velocity's stencil):
+//               (a0 d^S_{n+1} + a1 d^S_n + a2 d^S_{n-1}) / dt,          tau = a0 / dt,
 //   geometric:  d^G_Gamma = d^S_Gamma,
 //   dynamic:    the fluid's interface rows R^F_Gamma (the traction lambda the structure exerts on
 //               the fluid, at t_{n+1}: the fluid residual is BDF) act on the structure as -lambda;
@@ -43,18 +43,21 @@
 
 namespace physics::fsi
 {
-  /// The 2D channel between two elastic walls (apps/fsi_channel_2d.prm): fluid in
-  /// [0, L] x [0, H], walls [0, L] x [-t, 0] and [0, L] x [H, H + t] clamped at x = 0 and x = L,
-  /// a pressure pulse on the inlet x = 0, the outlet x = L traction-free.
-  /// Material (the walls) and Output come from the common sections.
-  struct FsiParameters : MaterialParameters, OutputParameters
+  /// The case: the generated 2D channel between two elastic walls (apps/fsi_channel_2d.prm):
+  /// fluid in [0, L] x [0, H], walls [0, L] x [-t, 0] and [0, L] x [H, H + t], or a gmsh mesh of
+  /// fluid and structure (the 3D tube, apps/fsi_tube_3d.prm; fsi_meshes.h): walls clamped on the
+  /// inlet and outlet planes, a pressure pulse on the inlet, the outlet traction-free.
+  /// Mesh file, Material (the walls) and Output come from the common sections.
+  struct FsiParameters : MeshParameters, MaterialParameters, OutputParameters
   {
     FsiParameters()
-        : MaterialParameters{"SaintVenantKirchhoff", 3e6, 0.3, 1.2} // dyn/cm^2, g/cm^3
+        : MeshParameters{""}                                        // empty: the generated channel
+        , MaterialParameters{"SaintVenantKirchhoff", 3e6, 0.3, 1.2} // dyn/cm^2, g/cm^3
         , OutputParameters{"output/fsi"}
     {
     }
-    // Geometry and mesh (matching nodes on the interface)
+    int dimension = 2; ///< 3 needs a mesh file
+    // The generated channel (matching nodes on the interface)
     double length = 6.0, height = 1.0, wall_thickness = 0.1; // cm
     int    cells_x = 30, cells_fluid_y = 6, cells_wall_y = 1;
     // Fluid
@@ -65,6 +68,7 @@ namespace physics::fsi
     double ale_poisson_ratio = 0.3, ale_stiffening = 1.0;
     // Load and time
     double inlet_pressure = 1.3332e4, pulse_duration = 3e-3, time_step = 1e-4, end_time = 1e-3;
+    bool   fluid_bdf2        = false; ///< the fluid's (and the interface velocity's) BDF2 instead of BDF1
     bool   shape_derivatives = true;
     bool   check_jacobian    = false; ///< testing: J v against central differences in step 2
     // Newton and linear solver
@@ -84,6 +88,8 @@ namespace physics::fsi
     /// At the end: ||d^S||_2 and max |d^S_i| (structure), ||d^G||_2 (ALE), ||(u, p)||_2 (fluid);
     /// norms of the global vectors, independent of the numbering and the partition.
     double structure_l2 = 0, structure_max = 0, ale_l2 = 0, fluid_l2 = 0;
+    /// The largest |dV - dt (Q_in - Q_out)| / (dt Q_in) over the steps with the inlet pressure on.
+    double max_mass_imbalance = 0;
   };
 
   FsiRunSummary run_condensed_fsi(const FsiParameters& parameters, MPI_Comm comm);

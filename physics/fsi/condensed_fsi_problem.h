@@ -13,6 +13,7 @@
 #include "fsi/ale_fluid.h"
 #include "fsi/ale_mesh_motion.h"
 #include "fsi/condensed_fsi.h"
+#include "fsi/fsi_meshes.h"
 
 #include "block_system.h"
 
@@ -25,6 +26,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
+#include <fstream>
 #include <map>
 #include <memory>
 #include <set>
@@ -34,14 +36,12 @@
 
 namespace physics::fsi
 {
+  /// One code for 2D (the channel) and 3D (the tube); boundary ids as in fsi_meshes.h.
+  template <int dim>
   class CondensedFsi : public SteppedProblem
   {
   public:
-    static constexpr int dim = 2;
-    // Boundary ids: fluid (colorized box) 0 inlet, 1 outlet, 2 bottom wall, 3 top wall; the
-    // structure's interface faces get 2 and 3 as well, its clamped ends 0 and 1, its outer faces 4.
-    static constexpr dealii::types::boundary_id inlet = 0, outlet = 1, bottom = 2, top = 3, outer = 4;
-    static bool on_interface(dealii::types::boundary_id id) { return id == bottom || id == top; }
+    static bool on_interface(dealii::types::boundary_id id) { return id == boundary::interface; }
 
     CondensedFsi(const FsiParameters& p, MPI_Comm comm);
     FsiRunSummary run();
@@ -72,6 +72,18 @@ namespace physics::fsi
     void assemble_fluid(dealii::TrilinosWrappers::MPI::Vector& R, dealii::TrilinosWrappers::SparseMatrix* K,
                         dealii::TrilinosWrappers::SparseMatrix* S);
     multigrid::BlockSystem assemble(std::vector<double>& norms);
+    /// The fluid's volume (on the moved mesh) and the flow rates through the inlet, the outlet
+    /// and the interface (outward normals; the inlet's is counted as inflow) at the current state.
+    struct FluidBalance
+    {
+      double volume = 0, inflow = 0, outflow = 0, wall_flux = 0;
+    };
+    FluidBalance fluid_balance() const;
+    /// The outward wall displacement d^S . n averaged over the interface nodes of each station
+    /// (the distinct axial positions x of the interface nodes), summed over the ranks.
+    std::vector<double> wall_profile() const;
+    /// Logs the step's mass balance and appends the wall profile to wall_displacement.csv.
+    void record_step(int number, double time);
     /// Testing: the Newton matrix times a direction v against central differences of the
     /// residual along v (relative error per field, logged and printed).
     void check_jacobian();
@@ -112,8 +124,9 @@ namespace physics::fsi
     std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
     multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
-    // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies
-    dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_ghosted_, v_S_ghosted_;
+    // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies; the BDF
+    // derivative of d^S on the structure numbering (the interface velocities, sync_interface)
+    dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_older_, d_S_ghosted_, u_interface_ghosted_;
     dealii::TrilinosWrappers::MPI::Vector x_F_, x_F_old_, x_F_older_, x_F_ghosted_;
     dealii::TrilinosWrappers::MPI::Vector d_G_, d_G_old_, d_G_older_, d_G_ghosted_;
     std::map<GlobalIndex, double>         lambda_old_; ///< lambda_n on the owned structure interface DOFs
@@ -125,5 +138,22 @@ namespace physics::fsi
     JsonLinesLog                          log_;
     std::unique_ptr<VtkSeries>            fluid_vtk_, solid_vtk_;
     std::vector<double>                   max_wall_displacement_;
+    /// The fluid's bounding box; 1e-9 of its diagonal is the tolerance of position matching.
+    dealii::Point<dim> fluid_low_, fluid_high_;
+    double             geometry_tolerance_ = 0;
+    /// An owned structure interface node: its first DOF, its station and its outward normal
+    /// (away from the fluid's centre line, perpendicular to x).
+    struct WallNode
+    {
+      GlobalIndex            dof     = 0;
+      unsigned int           station = 0;
+      dealii::Tensor<1, dim> outward;
+    };
+    std::vector<WallNode> wall_nodes_;
+    std::vector<double>   station_x_;                         ///< ascending
+    std::vector<int>      station_count_;                     ///< interface nodes per station, all ranks
+    double                volume_old_ = 0, volume_older_ = 0; ///< fluid volume at t_n, t_{n-1}
+    double                max_mass_imbalance_ = 0; ///< relative, over the steps with inlet pressure
+    std::ofstream         wall_csv_;               ///< rank 0
   };
 } // namespace physics::fsi

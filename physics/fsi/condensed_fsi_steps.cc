@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 
 namespace physics::fsi
@@ -18,7 +19,8 @@ namespace physics::fsi
   using namespace dealii;
   using multigrid::GO;
 
-  void CondensedFsi::check_jacobian()
+  template <int dim>
+  void CondensedFsi<dim>::check_jacobian()
   {
     // A direction of the fields' scales (displacements 1e-3, fluid 1), zero on the rows whose
     // values are prescribed (clamped structure DOFs, fixed ALE DOFs).
@@ -66,7 +68,8 @@ namespace physics::fsi
       log_.write(line);
   }
 
-  Linearization CondensedFsi::linearize(int iteration)
+  template <int dim>
+  Linearization CondensedFsi<dim>::linearize(int iteration)
   {
     if (p_.check_jacobian && iteration == 0 && steps_done_ == 1)
       check_jacobian();
@@ -76,7 +79,8 @@ namespace physics::fsi
     return result;
   }
 
-  void CondensedFsi::update(const multigrid::MultiVector& dx)
+  template <int dim>
+  void CondensedFsi<dim>::update(const multigrid::MultiVector& dx)
   {
     // Split the merged increment into the fields' owned DOFs.
     dd_S_           = 0;
@@ -96,7 +100,8 @@ namespace physics::fsi
     set_update_length(1.0);
   }
 
-  void CondensedFsi::set_update_length(double step_length)
+  template <int dim>
+  void CondensedFsi<dim>::set_update_length(double step_length)
   {
     const double change = step_length - update_length_;
     d_S_.add(change, dd_S_);
@@ -106,7 +111,8 @@ namespace physics::fsi
     sync_interface();
   }
 
-  void CondensedFsi::begin_step(double time, double step)
+  template <int dim>
+  void CondensedFsi<dim>::begin_step(double time, double step)
   {
     d_S_begin_ = d_S_;
     x_F_begin_ = x_F_;
@@ -115,12 +121,13 @@ namespace physics::fsi
     dynamics_->begin_step(d_S_, solid_constraints_);
     d_S_old_               = d_S_;
     fluid_model_.time_step = step;
-    fluid_model_.boundary_pressures[inlet] =
+    fluid_model_.boundary_pressures[boundary::inlet] =
         time <= p_.pulse_duration * (1 + 1e-12) ? p_.inlet_pressure : 0.0;
     sync_interface(); // the constant-displacement predictor's interface velocity
   }
 
-  void CondensedFsi::reset_step()
+  template <int dim>
+  void CondensedFsi<dim>::reset_step()
   {
     d_S_ = d_S_begin_;
     x_F_ = x_F_begin_;
@@ -128,7 +135,8 @@ namespace physics::fsi
     sync_interface();
   }
 
-  void CondensedFsi::end_step(int /*number*/, double /*time*/)
+  template <int dim>
+  void CondensedFsi<dim>::end_step(int number, double time)
   {
     // The interface traction lambda_{n+1} = R^F_Gamma, recovered for the next step's af
     // lambda_n term, sent to the owners of the structure DOFs.
@@ -141,20 +149,17 @@ namespace physics::fsi
     lambda_old_ = send_entries_to_owners(
         lambda, [&](GlobalIndex g) { return owning_rank(solid_owned_per_rank_, g); }, comm_);
     dynamics_->end_step(d_S_);
+    d_S_older_ = d_S_old_;
     x_F_older_ = x_F_old_;
     x_F_old_   = x_F_;
     d_G_older_ = d_G_old_;
     d_G_old_   = d_G_;
     ++steps_done_;
-    // The largest wall displacement normal to the wall.
-    double largest = 0;
-    for (const auto& [f, sd] : fluid_partner_)
-      if (sd % dim == 1 && solid_owned_.is_element(sd))
-        largest = std::max(largest, std::abs(d_S_[sd]));
-    max_wall_displacement_.push_back(Utilities::MPI::max(largest, comm_));
+    record_step(number, time);
   }
 
-  void CondensedFsi::write_output(int number, double time, bool last)
+  template <int dim>
+  void CondensedFsi<dim>::write_output(int number, double time, bool last)
   {
     if (!p_.vtk_due(number, last))
       return;
@@ -195,7 +200,8 @@ namespace physics::fsi
     }
   }
 
-  FsiRunSummary CondensedFsi::run()
+  template <int dim>
+  FsiRunSummary CondensedFsi<dim>::run()
   {
     {
       TimerOutput::Scope scope(timer_, "setup");
@@ -207,6 +213,17 @@ namespace physics::fsi
       fluid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "fluid", comm_);
       solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "structure", comm_);
       sync_interface();
+      volume_old_ = volume_older_ = fluid_balance().volume;
+      if (rank_ == 0)
+        {
+          // The wall profile, one row per converged step: time, then the mean outward wall
+          // displacement at each station; the header names the stations' x.
+          wall_csv_.open(p_.output_directory + "/wall_displacement.csv");
+          wall_csv_ << "time";
+          for (const double x : station_x_)
+            wall_csv_ << "," << std::setprecision(10) << x;
+          wall_csv_ << "\n";
+        }
     }
     pcout_ << "fsi: fluid " << fluid_tria_.n_global_active_cells() << " cells (at most "
            << Utilities::MPI::max(fluid_tria_.n_active_cells(), comm_) << " stored on a rank), structure "
@@ -234,6 +251,7 @@ namespace physics::fsi
     summary.structure_max         = d_S_.linfty_norm();
     summary.ale_l2                = d_G_.l2_norm();
     summary.fluid_l2              = x_F_.l2_norm();
+    summary.max_mass_imbalance    = max_mass_imbalance_;
     if (!result.converged)
       pcout_ << "Newton did not converge in time step " << result.steps + 1 << ": " << result.failure << "\n";
     log_timer_summary(timer_, log_, std::cout, rank_ == 0, comm_);
@@ -242,6 +260,9 @@ namespace physics::fsi
 
   FsiRunSummary run_condensed_fsi(const FsiParameters& parameters, MPI_Comm comm)
   {
-    return CondensedFsi(parameters, comm).run();
+    return parameters.dimension == 3 ? CondensedFsi<3>(parameters, comm).run()
+                                     : CondensedFsi<2>(parameters, comm).run();
   }
+  template class CondensedFsi<2>;
+  template class CondensedFsi<3>;
 } // namespace physics::fsi

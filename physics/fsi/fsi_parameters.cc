@@ -15,6 +15,13 @@ namespace physics::fsi
   {
     const FsiParameters d;
     prm.enter_subsection("Mesh");
+    MeshParameters::declare_entries(
+        prm, d,
+        "Empty: the generated 2D channel (the entries below). Else fluid = physical volume (2D: surface) 1, "
+        "structure = 2, one conforming mesh; physical surfaces (2D: lines) 1 inlet plane, 2 outlet plane, 5 "
+        "the "
+        "structure's outer surface; the interface is where the two volumes meet (meshes/fsi_tube_3d.geo).");
+    prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension (3 needs a Mesh file).");
     prm.declare_entry("Length", std::to_string(d.length), Double(), "Channel length L (> 0; CGS: cm).");
     prm.declare_entry("Height", std::to_string(d.height), Double(),
                       "Channel height H between the walls (> 0).");
@@ -52,8 +59,14 @@ namespace physics::fsi
     prm.enter_subsection("Time");
     prm.declare_entry("Time step", "1e-4", Double(), "dt (> 0; s). Fluid BDF1, structure generalized-alpha.");
     prm.declare_entry("End time", "1e-3", Double(), "Final time (> 0; s).");
-    prm.declare_entry("Spectral radius", "1", Double(0, 1),
-                      "rho_inf of the structure's generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
+    prm.declare_entry(
+        "Fluid scheme", "BDF1", dealii::Patterns::Selection("BDF1|BDF2"),
+        "Time derivative of the fluid, the grid velocity and the interface velocity: backward Euler "
+        "or BDF2 (second order, equal steps assumed; the first step takes the rest state as both earlier "
+        "states).");
+    prm.declare_entry(
+        "Spectral radius", "1", Double(0, 1),
+        "rho_inf of the structure's generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
@@ -74,6 +87,11 @@ namespace physics::fsi
   void FsiParameters::parse(dealii::ParameterHandler& prm)
   {
     prm.enter_subsection("Mesh");
+    parse_entries(prm);
+    dimension = prm.get_integer("Dimension");
+    if (dimension == 3 && mesh_file.empty())
+      throw std::invalid_argument("parameter 'Mesh file' (Mesh): expected a mesh file with Dimension = 3 "
+                                  "(the generated channel is 2D)");
     length         = positive(prm.get_double("Length"), "Length (Mesh)");
     height         = positive(prm.get_double("Height"), "Height (Mesh)");
     wall_thickness = positive(prm.get_double("Wall thickness"), "Wall thickness (Mesh)");
@@ -103,9 +121,10 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
-    time_step = positive(prm.get_double("Time step"), "Time step (Time)");
-    end_time  = positive(prm.get_double("End time"), "End time (Time)");
+    time_step       = positive(prm.get_double("Time step"), "Time step (Time)");
+    end_time        = positive(prm.get_double("End time"), "End time (Time)");
     spectral_radius = prm.get_double("Spectral radius");
+    fluid_bdf2      = prm.get("Fluid scheme") == "BDF2";
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");

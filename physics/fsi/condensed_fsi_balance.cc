@@ -1,0 +1,128 @@
+// CondensedFsi (condensed_fsi_problem.h): the fluid's mass balance and the wall's displacement
+// profile, measured after each converged time step.
+//
+// Mass balance. The continuity equation tested with q = 1 (the sum of all pressure rows; PSPG
+// adds nothing, grad q = 0) says int_Omega div u dx = 0 on the moved mesh at t_{n+1}; with
+// 2 x 2 (x 2) Gauss points this integral is exact on Q1 cells (the integrand cof(F) : Grad u is
+// of degree 3 at most per reference direction), so the divergence theorem makes
+//   inflow - outflow = int_Gamma u . n ds   (u = grid velocity on the wall),
+// and the BDF grid velocity makes the wall flux the fluid's BDF volume rate, up to the
+// difference between the volume swept in the step and its end-point approximation. Logged per
+// step: the volume change of the BDF stencil dV = a0 V_{n+1} + a1 V_n + a2 V_{n-1} (BDF1:
+// V_{n+1} - V_n), dt (Q_in - Q_out), their difference relative to dt Q_in, and the wall flux.
+#include "fsi/condensed_fsi_problem.h"
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q_eulerian.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+
+namespace physics::fsi
+{
+  using namespace dealii;
+
+  template <int dim>
+  typename CondensedFsi<dim>::FluidBalance CondensedFsi<dim>::fluid_balance() const
+  {
+    MappingQEulerian<dim, TrilinosWrappers::MPI::Vector> moved(1, mesh_dofs_, d_G_ghosted_);
+    const QGauss<dim>                                    quadrature(2);
+    const QGauss<dim - 1>                                face_quadrature(2);
+    FEValues<dim>                    cell_values(moved, fluid_fe_, quadrature, update_JxW_values);
+    FEFaceValues<dim>                face_values(moved, fluid_fe_, face_quadrature,
+                                                 update_values | update_normal_vectors | update_JxW_values);
+    const FEValuesExtractors::Vector velocity(0);
+    std::vector<Tensor<1, dim>>      u(face_quadrature.size());
+    FluidBalance                     b;
+    for (const auto& cell : fluid_dofs_.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_values.reinit(cell);
+          for (unsigned q = 0; q < quadrature.size(); ++q)
+            b.volume += cell_values.JxW(q);
+          for (const unsigned f : cell->face_indices())
+            if (cell->at_boundary(f))
+              {
+                face_values.reinit(cell, f);
+                face_values[velocity].get_function_values(x_F_ghosted_, u);
+                double flux = 0;
+                for (unsigned q = 0; q < face_quadrature.size(); ++q)
+                  flux += u[q] * face_values.normal_vector(q) * face_values.JxW(q);
+                const auto id = cell->face(f)->boundary_id();
+                (id == boundary::inlet    ? b.inflow
+                 : id == boundary::outlet ? b.outflow
+                                          : b.wall_flux) += id == boundary::inlet ? -flux : flux;
+              }
+        }
+    for (double* v : {&b.volume, &b.inflow, &b.outflow, &b.wall_flux})
+      *v = Utilities::MPI::sum(*v, comm_);
+    return b;
+  }
+
+  template <int dim>
+  std::vector<double> CondensedFsi<dim>::wall_profile() const
+  {
+    std::vector<double> sum(station_x_.size(), 0.0);
+    for (const auto& node : wall_nodes_)
+      for (unsigned c = 0; c < dim; ++c)
+        sum[node.station] += d_S_[node.dof + c] * node.outward[c];
+    Utilities::MPI::sum(ArrayView<const double>(sum), comm_, ArrayView<double>(sum));
+    for (std::size_t k = 0; k < sum.size(); ++k)
+      sum[k] /= station_count_[k];
+    return sum;
+  }
+
+  template <int dim>
+  void CondensedFsi<dim>::record_step(int number, double time)
+  {
+    // The largest outward wall displacement (normal to the wall).
+    double largest = 0;
+    for (const auto& node : wall_nodes_)
+      {
+        double normal = 0;
+        for (unsigned c = 0; c < dim; ++c)
+          normal += d_S_[node.dof + c] * node.outward[c];
+        largest = std::max(largest, std::abs(normal));
+      }
+    max_wall_displacement_.push_back(Utilities::MPI::max(largest, comm_));
+
+    const FluidBalance b        = fluid_balance();
+    const double       dt       = fluid_model_.time_step;
+    const BdfWeights   bdf      = BdfWeights::of(fluid_model_.scheme);
+    const double       change   = bdf.a0 * b.volume + bdf.a1 * volume_old_ + bdf.a2 * volume_older_;
+    const double       net      = dt * (b.inflow - b.outflow);
+    const double       balance  = change - net;
+    const double       relative = std::abs(balance) / std::max(std::abs(dt * b.inflow), 1e-300);
+    volume_older_               = volume_old_;
+    volume_old_                 = b.volume;
+    if (fluid_model_.boundary_pressures.at(boundary::inlet) != 0)
+      max_mass_imbalance_ = std::max(max_mass_imbalance_, relative);
+    JsonLinesLog::Line line;
+    line.add("event", std::string("fluid_balance"))
+        .add("load_step", number)
+        .add("time", time)
+        .add("volume", b.volume)
+        .add("volume_change", change)
+        .add("inflow", b.inflow)
+        .add("outflow", b.outflow)
+        .add("wall_flux", b.wall_flux)
+        .add("mass_imbalance", balance)
+        .add("mass_imbalance_relative", relative)
+        .add("max_wall_displacement", max_wall_displacement_.back());
+    log_.write(line);
+
+    const auto profile = wall_profile();
+    if (!wall_csv_.is_open())
+      return;
+    wall_csv_ << std::setprecision(10) << time;
+    for (const double d : profile)
+      wall_csv_ << "," << d;
+    wall_csv_ << "\n" << std::flush;
+  }
+
+  template class CondensedFsi<2>;
+  template class CondensedFsi<3>;
+} // namespace physics::fsi

@@ -1,0 +1,48 @@
+// The fluid and structure meshes of the condensed FSI app, both fully distributed
+// (common/distributed_mesh.h), with the interface nodes of the two meshes at the same places:
+//  - the 2D channel between two elastic walls, generated (apps/fsi_channel_2d.prm);
+//  - any gmsh mesh with the fluid as physical volume (2D: surface) 1 and the structure as 2 in one
+//    conforming mesh (meshes/fsi_tube_3d.geo, apps/fsi_tube_3d.prm). The two parts are cut
+//    apart on the group roots; the faces where they met become the interface of both, so their
+//    nodes match by construction.
+// Boundary ids of both meshes (the gmsh physical surfaces/lines keep their numbers):
+//   1 inlet plane (fluid: the pressure pulse; structure: clamped; ALE: fixed),
+//   2 outlet plane (fluid: traction-free; structure: clamped; ALE: fixed),
+//   3 fluid/structure interface, 5 the structure's outer surface (traction-free).
+// Id 0 is left unused: a fully distributed mesh gives it to the outer faces of its ghost layer.
+#pragma once
+
+#include <deal.II/distributed/fully_distributed_tria.h>
+
+#include <string>
+
+namespace physics::fsi::boundary
+{
+  constexpr unsigned int inlet = 1, outlet = 2, interface = 3, outer = 5;
+} // namespace physics::fsi::boundary
+
+namespace physics::fsi
+{
+  /// The generated 2D channel: fluid [0, L] x [0, H] (nx x nf cells), walls [0, L] x [-t, 0] and
+  /// [0, L] x [H, H + t] (nx x nw cells each).
+  struct ChannelGeometry
+  {
+    double       length = 6, height = 1, wall_thickness = 0.1;
+    unsigned int cells_x = 30, cells_fluid = 6, cells_wall = 1;
+  };
+
+  void make_channel_meshes(const ChannelGeometry&                                g,
+                           dealii::parallel::fullydistributed::Triangulation<2>& fluid,
+                           dealii::parallel::fullydistributed::Triangulation<2>& structure);
+
+  /// Reads the gmsh `file` (.geo meshed with `-setnumber refine gmsh_refinement`, or .msh) and
+  /// fills `fluid` with its cells of material id 1 and `structure` with those of material id 2
+  /// (material id 0 afterwards), after `global_refinements` uniform refinements of the whole, the faces
+  /// between the two marked boundary::interface. Throws std::invalid_argument naming the file when a part is
+  /// empty, a material id other than 1 or 2 occurs, the parts do not touch, or the fluid has no inlet face.
+  template <int dim>
+  void read_fsi_meshes(const std::string& file, int gmsh_refinement, int global_refinements,
+                       const std::string&                                      work_directory,
+                       dealii::parallel::fullydistributed::Triangulation<dim>& fluid,
+                       dealii::parallel::fullydistributed::Triangulation<dim>& structure);
+} // namespace physics::fsi
