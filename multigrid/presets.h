@@ -7,6 +7,9 @@
 //                     solver", "schur solver": MueLu parameter lists)
 //   direct            SuperLU on the whole system (the project's adaptor)
 //   muelu             a complete MueLu XML of the user's (--xml FILE without a "kind")
+//   fully-coupled-amg one monolithic SA-AMG for n x n blocks, block Gauss-Seidel level smoother
+//                     (fully_coupled_amg.h)
+//   block-relaxation  block Gauss-Seidel / Jacobi outside, one solver per block (block_relaxation.h)
 // Any value can be overridden: "PATH=VALUE" with '/' between sublists, e.g.
 // "template parameters/MAX_LEVELS=2" or "primal solver/max levels=2".
 #pragma once
