@@ -140,7 +140,7 @@ namespace multigrid
             use_superlu_coarse_solver(*solver->amg);
           }
         else
-          throw InputError("block solvers/" + block.name + "/solver is '" + kind +
+          throw InputError("preset parameter 'block solvers/" + block.name + "/solver' is '" + kind +
                            "', expected amg or direct");
         solvers_.push_back(std::move(solver));
       }
