@@ -1,5 +1,5 @@
-// solve_block_system: solve a saddle-point (or single-field) block system with any of the seeds'
-// preconditioners, inside GMRES, and report what it took.
+// solve_block_system: solve a saddle-point, n x n (FSI) or single-field block system with any of
+// the seeds' preconditioners, inside GMRES, and report what it took.
 //
 // The system comes from files (a directory written by our apps with --export-system, or another
 // code's single-matrix export such as tests/data/peer/meshtying2D_small) or from a built-in model

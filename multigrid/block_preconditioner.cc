@@ -280,7 +280,8 @@ namespace multigrid
         check_fully_coupled(preset, system);
         const auto muelu = fully_coupled_muelu_list(preset, system);
         auto H = with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu); });
-        const double growth = check_level_smoother(*H, system, preset);
+        const double growth =
+            with_preset_context(preset.name, [&] { return check_level_smoother(*H, system, preset); });
         fill_levels(info_, level_sizes(*H));
         fill_block_rows(info_, *H);
         info_.coarse_solver = "SuperLU (project adaptor, blocks merged)";

@@ -50,6 +50,15 @@ namespace multigrid
                        "' nor 'default'");
     }
 
+    /// "smoothed" or "tentative" for block `name`: its entry in the sublist "block prolongators"
+    /// if there is one, else "prolongator".
+    std::string prolongator_of(const List& p, const std::string& name)
+    {
+      if (p.isSublist("block prolongators") && p.sublist("block prolongators").isType<std::string>(name))
+        return p.sublist("block prolongators").get<std::string>(name);
+      return p.get<std::string>("prolongator");
+    }
+
     /// Aggregation, tentative and (smoothed) prolongator and coarse nullspace of block k,
     /// collected in the group "Field<k>".
     void add_field_transfer(List& f, std::size_t k, const List& p, bool smoothed)
@@ -132,10 +141,13 @@ namespace multigrid
     const int   min_agg   = p.get<int>("aggregation: min agg size");
     const int   max_size  = p.get<int>("coarse: max size");
     const int   max_level = p.get<int>("max levels");
-    const auto  prolong   = p.get<std::string>("prolongator");
-    if (prolong != "smoothed" && prolong != "tentative")
-      throw InputError("preset '" + preset.name + "': 'prolongator' is '" + prolong +
-                       "', expected smoothed or tentative");
+    for (std::size_t k = 0; k < system.n_blocks(); ++k)
+      {
+        const auto prolong = prolongator_of(p, system.block(k).name);
+        if (prolong != "smoothed" && prolong != "tentative")
+          throw InputError("preset '" + preset.name + "': the prolongator of block '" + system.block(k).name +
+                           "' is '" + prolong + "', expected smoothed or tentative");
+      }
     if (min_agg < 1 || max_size < 1 || max_level < 1)
       throw InputError("preset '" + preset.name +
                        "': expected 'aggregation: min agg size', 'coarse: max size' and 'max levels' >= 1");
@@ -160,12 +172,11 @@ namespace multigrid
     const auto&       p = preset.parameters;
     const std::size_t n = system.n_blocks();
     List              muelu("MueLu");
-    List&             f        = muelu.sublist("Factories");
-    const bool        smoothed = p.get<std::string>("prolongator") == "smoothed";
+    List&             f = muelu.sublist("Factories");
 
     // 1.-2. per field: aggregates, Ptent (nullspace), P, coarse nullspace.
     for (std::size_t k = 0; k < n; ++k)
-      add_field_transfer(f, k, p, smoothed);
+      add_field_transfer(f, k, p, prolongator_of(p, system.block(k).name) == "smoothed");
     // 3. block-diagonal P, R = P^T, Galerkin product of the whole n x n operator.
     name_block_groups(factory(f, "BlockedP", "BlockedPFactory"), "Field", n);
     factory(f, "BlockedR", "GenericRFactory").set("P", "BlockedP");

@@ -21,7 +21,8 @@
 // n); solve_block_system --print-xml prints it.
 //
 // Preset parameters: "max levels", "coarse: max size", "aggregation: min agg size",
-// "prolongator" (smoothed | tentative), "sa: damping factor", "smoother: sweeps",
+// "prolongator" (smoothed | tentative; per block in the optional sublist "block prolongators",
+// NAME = smoothed | tentative), "sa: damping factor", "smoother: sweeps",
 // "smoother: damping", "smoother: max growth" (see check_level_smoother), and the sublist
 // "block smoothers" with one sublist per block name or "default": "type" (an Ifpack2 type of
 // MueLu's TrilinosSmoother: CHEBYSHEV, RILUK, RELAXATION, ...; or SuperLU for an exact block
