@@ -47,7 +47,8 @@ namespace multigrid
   /// Applies "PATH=VALUE" overrides; the value is converted to the type of the existing entry
   /// (a template parameter: checked against the type of the template's entry). A sublist or
   /// parameter the preset lacks is refused (InputError listing the known ones), except a parameter
-  /// of MueLu's master list at the top of a MueLu list ("MueLu", "primal solver", "schur solver")
+  /// of MueLu's master list at the top of a MueLu list ("MueLu", "primal solver", "schur solver",
+  /// "block solvers/NAME")
   /// and CheapSIMPLE's optional keys (predictor, schur nullspace, spai: ...) at the top level.
   /// An override written "[P1, P2] PATH=VALUE" applies only when the preset is one of those named
   /// (so a parameter file can carry the settings of several presets and the preset can be switched
