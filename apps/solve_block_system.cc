@@ -1,5 +1,5 @@
-// solve_block_system: solve a saddle-point (or single-field) block system with any of the seeds'
-// preconditioners, inside GMRES, and report what it took.
+// solve_block_system: solve a saddle-point, n x n (FSI) or single-field block system with any of
+// the seeds' preconditioners, inside GMRES, and report what it took.
 //
 // The system comes from files (a directory written by our apps with --export-system, or another
 // code's single-matrix export such as tests/data/peer/meshtying2D_small) or from a built-in model
@@ -11,9 +11,12 @@
 //       --xml tests/data/peer_meshtying2D.xml --tol 1e-4 --per-block --json report.json
 //   solve_block_system --builtin tied-blocks-2d:1 --preset "cheapsimple(sa-amg)"
 //       --set "primal solver/max levels=2"
+//   mpirun -np 2 solve_block_system --builtin coupled-fields-2d:3 --preset "fully-coupled-sa-amg(bgs)"
+//       --set "coarse: max size=500"
 //   solve_block_system --list-presets
 #include "block_preconditioner.h"
 #include "block_system_io.h"
+#include "fully_coupled_amg.h"
 #include "krylov_solver.h"
 #include "model_problems.h"
 #include "presets.h"
@@ -21,6 +24,7 @@
 
 #include <Teuchos_DefaultComm.hpp>
 #include <Teuchos_ParameterListExceptions.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
 #include <Tpetra_Core.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
 
@@ -41,7 +45,9 @@ System (one of):
                        another code's single-matrix export (P_matrix.mm, P_rhs.mm,
                        P_nullspace1.mm, P_interface_dof_map_MPI1.mm)
   --builtin NAME       a built-in model problem: tied-blocks-2d:LEVEL (two elastic blocks tied
-                       by dual mortar multipliers; DOFs grow 4x per level)
+                       by dual mortar multipliers; DOFs grow 4x per level) or
+                       coupled-fields-2d:LEVEL (structure, Stokes-like fluid and ALE blocks
+                       coupled through an interface, the FSI block layout; 4x per level)
   --dofs-per-node N    DOFs per node of a single-matrix export (default 2)
 
 Preconditioner (one of):
@@ -60,7 +66,7 @@ Output:
   --json FILE          write the solve report as JSON (atomically)
   --export-system DIR  write the system in the project's format (manifest + Matrix Market)
   --write-solution FILE  write x as a Matrix Market array in the row order of the system's matrix
-  --print-xml          print the expanded MueLu XML of a saddle-point preset and exit
+  --print-xml          print the MueLu XML of a saddle-point or fully coupled preset and exit
   --list-presets       list the shipped presets with their descriptions and exit
   --help               this text
 
@@ -184,10 +190,13 @@ int main(int argc, char** argv)
       multigrid::apply_overrides(preset, o.overrides);
       if (o.print_xml)
         {
-          if (preset.kind != "saddle-point-amg")
-            throw multigrid::InputError("--print-xml: preset '" + preset.name + "' is of kind '" +
-                                        preset.kind + "', only saddle-point-amg presets expand to MueLu XML");
-          if (root)
+          if (preset.kind != "saddle-point-amg" && preset.kind != "fully-coupled-amg")
+            throw multigrid::InputError("--print-xml: preset '" + preset.name + "' is of kind '" + preset.kind +
+                                        "', only saddle-point-amg and fully-coupled-amg presets are MueLu XML");
+          if (root && preset.kind == "fully-coupled-amg")
+            Teuchos::writeParameterListToXmlOStream(multigrid::fully_coupled_muelu_list(preset, system),
+                                                    std::cout);
+          else if (root)
             std::cout << multigrid::expand_template(preset, system.block(0).dofs_per_node,
                                                     system.n_blocks() > 1 ? system.block(1).dofs_per_node
                                                                           : 1);

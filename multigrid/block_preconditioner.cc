@@ -1,6 +1,8 @@
 #include "block_preconditioner.h"
 
+#include "block_relaxation.h"
 #include "cheap_simple.h"
+#include "fully_coupled_amg.h"
 #include "hierarchy_utils.h"
 #include "project_factories.h"
 #include "superlu_direct.h"
@@ -108,12 +110,10 @@ namespace multigrid
         }
     }
 
-    RCP<Hierarchy> build_saddle_point_hierarchy(const BlockSystem&            system,
-                                                const Teuchos::ParameterList& muelu)
+    /// A blocked MueLu hierarchy from a factory-style list (Factories + Hierarchy) on the
+    /// system's n x n operator; block k's near-nullspace is level 0's "Nullspace<k+1>".
+    RCP<Hierarchy> build_blocked_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu)
     {
-      if (system.n_blocks() != 2)
-        throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
-                         std::to_string(system.n_blocks()) + " blocks");
       auto comm = system.comm();
       Teuchos::ParameterList                          list = muelu;
       MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, comm,
@@ -122,8 +122,8 @@ namespace multigrid
       H->IsPreconditioner(true);
       auto L0 = H->GetLevel(0);
       L0->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
-      L0->Set("Nullspace1", system.nullspace_or_translations(0));
-      L0->Set("Nullspace2", system.nullspace_or_translations(1));
+      for (std::size_t k = 0; k < system.n_blocks(); ++k)
+        L0->Set("Nullspace" + std::to_string(k + 1), system.nullspace_or_translations(k));
       // Contact/meshtying systems: the interface data of the saddle-point template (block systems
       // without an interface, e.g. beam/solid, use templates that do not ask for it).
       if (system.has_interface())
@@ -137,6 +137,18 @@ namespace multigrid
         }
       interpreter.SetupHierarchy(*H);
       return H;
+    }
+
+    /// Every level's rows per block (blocked hierarchies).
+    void fill_block_rows(PreconditionerInfo& info, Hierarchy& H)
+    {
+      for (int l = 0; l < H.GetNumLevels() && l < static_cast<int>(info.levels.size()); ++l)
+        {
+          auto bA = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(H.GetLevel(l)->Get<RCP<Matrix>>("A"));
+          if (!bA.is_null())
+            for (std::size_t k = 0; k < bA->Rows(); ++k)
+              info.levels[l].block_rows.push_back(bA->getRangeMap(k)->getGlobalNumElements());
+        }
     }
   } // namespace
 
@@ -155,17 +167,21 @@ namespace multigrid
     if (!nullspace.is_null())
       H->GetLevel(0)->Set("Nullspace", nullspace);
     interpreter.SetupHierarchy(*H);
+    // MueLu 13.2's Amesos2 coarse solve is not exact on several ranks: the project's SuperLU
+    // takes the coarsest level's place.
     if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
-      {
-        // MueLu 13.2's Amesos2 coarse solve is not exact on several ranks: the project's SuperLU
-        // takes the coarsest level's place (it is MueLu's coarse solver slot, "PreSmoother").
-        auto coarsest = H->GetLevel(H->GetNumLevels() - 1);
-        auto Ac       = coarsest->Get<RCP<Matrix>>("A");
-        coarsest->Set("PreSmoother", superlu_coarse_solver(Ac));
-        if (coarsest->IsAvailable("PostSmoother"))
-          coarsest->Delete("PostSmoother", MueLu::NoFactory::get());
-      }
+      use_superlu_coarse_solver(*H);
     return H;
+  }
+
+  void use_superlu_coarse_solver(Hierarchy& H)
+  {
+    // MueLu's coarse solver slot is the coarsest level's "PreSmoother".
+    auto coarsest = H.GetLevel(H.GetNumLevels() - 1);
+    auto Ac       = coarsest->Get<RCP<Matrix>>("A");
+    coarsest->Set("PreSmoother", superlu_coarse_solver(Ac));
+    if (coarsest->IsAvailable("PostSmoother"))
+      coarsest->Delete("PostSmoother", MueLu::NoFactory::get());
   }
 
   std::vector<std::pair<long long, long long>> level_sizes(Hierarchy& H)
@@ -250,18 +266,36 @@ namespace multigrid
             muelu.remove("kind", false);
             muelu.remove("description", false);
           }
-        auto H =
-            with_preset_context(preset.name, [&] { return build_saddle_point_hierarchy(system, muelu); });
+        if (system.n_blocks() != 2)
+          throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
+                           std::to_string(system.n_blocks()) + " blocks");
+        auto H = with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu); });
         fill_levels(info_, level_sizes(*H));
-        for (int l = 0; l < H->GetNumLevels(); ++l)
-          {
-            auto bA = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(H->GetLevel(l)->Get<RCP<Matrix>>("A"));
-            if (!bA.is_null() && l < static_cast<int>(info_.levels.size()))
-              for (std::size_t k = 0; k < bA->Rows(); ++k)
-                info_.levels[l].block_rows.push_back(bA->getRangeMap(k)->getGlobalNumElements());
-          }
+        fill_block_rows(info_, *H);
         hierarchy_ = H;
         op_        = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
+      }
+    else if (preset.kind == "fully-coupled-amg")
+      {
+        check_fully_coupled(preset, system);
+        const auto muelu = fully_coupled_muelu_list(preset, system);
+        auto H = with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu); });
+        const double growth =
+            with_preset_context(preset.name, [&] { return check_level_smoother(*H, system, preset); });
+        fill_levels(info_, level_sizes(*H));
+        fill_block_rows(info_, *H);
+        info_.coarse_solver = "SuperLU (project adaptor, blocks merged)";
+        info_.notes.push_back("level smoother: ||A e|| x " + std::to_string(growth) +
+                              " in 5 applications (fine level, from a random e)");
+        hierarchy_ = H;
+        op_        = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
+      }
+    else if (preset.kind == "block-relaxation")
+      {
+        auto outer = with_preset_context(preset.name,
+                                         [&] { return Teuchos::rcp(new BlockRelaxationOperator(system, p)); });
+        outer->describe(info_);
+        op_ = outer;
       }
     else
       throw InputError("preset '" + preset.name + "': unknown kind '" + preset.kind + "'");
@@ -270,13 +304,18 @@ namespace multigrid
 
   BlockPreconditioner::~BlockPreconditioner() = default;
 
-  RCP<const Matrix> BlockPreconditioner::prolongator_block(int level, int block) const
+  RCP<const Matrix> BlockPreconditioner::prolongator(int level) const
   {
     if (hierarchy_.is_null() || level + 1 >= hierarchy_->GetNumLevels())
       throw InputError("preset '" + info_.preset + "' has no prolongator below level " +
                        std::to_string(level));
-    auto P  = hierarchy_->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
-    auto bP = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(P);
+    return hierarchy_->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
+  }
+
+  RCP<const Matrix> BlockPreconditioner::prolongator_block(int level, int block) const
+  {
+    auto P  = prolongator(level);
+    auto bP = Teuchos::rcp_dynamic_cast<const BlockedCrsMatrix>(P);
     if (bP.is_null())
       return P;
     return bP->getMatrix(block, block);

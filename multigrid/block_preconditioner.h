@@ -51,6 +51,9 @@ namespace multigrid
     /// Diagnostics of MueLu-based presets: block `block` of the prolongator from level
     /// `level` + 1 to `level` (level 0 = fine). Throws InputError for other kinds or levels.
     RCP<const Matrix>         prolongator_block(int level, int block) const;
+    /// The whole prolongator from level `level` + 1 to `level` (a BlockedCrsMatrix for blocked
+    /// hierarchies). Throws InputError like prolongator_block.
+    RCP<const Matrix> prolongator(int level) const;
     const PreconditionerInfo& info() const { return info_; }
 
   private:

@@ -26,6 +26,10 @@ namespace multigrid
                                               const RCP<MultiVector>&       nullspace,
                                               const Teuchos::ParameterList& muelu_parameters);
 
+  /// Replaces the coarse solver of a set-up hierarchy by the project's SuperLU (on the coarsest
+  /// level's operator).
+  void use_superlu_coarse_solver(Hierarchy& H);
+
   /// The parameter `name` of `list`, or `fallback` when it is absent.
   template <typename T>
   T value_or(const Teuchos::ParameterList& list, const std::string& name, T fallback)

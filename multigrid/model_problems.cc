@@ -1,5 +1,7 @@
 #include "model_problems.h"
 
+#include "coupled_fields.h"
+
 #include <Xpetra_CrsMatrixWrap.hpp>
 #include <Xpetra_MapFactory.hpp>
 #include <Xpetra_MatrixFactory.hpp>
@@ -291,23 +293,29 @@ namespace multigrid
 
   BlockSystem builtin_system(const std::string& spec, RCP<const Comm> comm)
   {
-    const std::string prefix = "tied-blocks-2d:";
-    if (spec.rfind(prefix, 0) == 0)
+    const auto colon = spec.find(':');
+    const std::string name = spec.substr(0, colon);
+    if (name != "tied-blocks-2d" && name != "coupled-fields-2d")
+      throw InputError("--builtin '" + spec +
+                       "': unknown system (expected tied-blocks-2d:LEVEL or coupled-fields-2d:LEVEL)");
+    int level = 0;
+    try
       {
-        TiedBlocksOptions o;
-        try
-          {
-            std::size_t used = 0;
-            o.level          = std::stoi(spec.substr(prefix.size()), &used);
-            if (used != spec.size() - prefix.size())
-              throw std::invalid_argument("trailing");
-          }
-        catch (const std::exception&)
-          {
-            throw InputError("--builtin '" + spec + "': expected tied-blocks-2d:LEVEL with an integer LEVEL");
-          }
-        return tied_blocks_2d(comm, o);
+        if (colon == std::string::npos)
+          throw std::invalid_argument("no level");
+        std::size_t used = 0;
+        level            = std::stoi(spec.substr(colon + 1), &used);
+        if (used != spec.size() - colon - 1)
+          throw std::invalid_argument("trailing");
       }
-    throw InputError("--builtin '" + spec + "': unknown system (expected tied-blocks-2d:LEVEL)");
+    catch (const std::exception&)
+      {
+        throw InputError("--builtin '" + spec + "': expected " + name + ":LEVEL with an integer LEVEL");
+      }
+    if (name == "coupled-fields-2d")
+      return coupled_fields_2d(comm, {level, false});
+    TiedBlocksOptions o;
+    o.level = level;
+    return tied_blocks_2d(comm, o);
   }
 } // namespace multigrid

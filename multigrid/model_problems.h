@@ -30,6 +30,7 @@ namespace multigrid
 
   BlockSystem tied_blocks_2d(RCP<const Comm> comm, const TiedBlocksOptions& options);
 
-  /// "tied-blocks-2d:LEVEL" -> the system; throws InputError for an unknown name.
+  /// "tied-blocks-2d:LEVEL" or "coupled-fields-2d:LEVEL" (coupled_fields.h) -> the system; throws
+  /// InputError for an unknown name.
   BlockSystem builtin_system(const std::string& spec, RCP<const Comm> comm);
 } // namespace multigrid

@@ -85,7 +85,20 @@ namespace multigrid
                                                      {"saddle-point-amg", "template parameters", "sublist"},
                                                      {"cheapsimple", "sweeps", "int"},
                                                      {"cheapsimple", "damping", "double"},
-                                                     {"cheapsimple", "schur solver", "sublist"}};
+                                                     {"cheapsimple", "schur solver", "sublist"},
+                                                     {"fully-coupled-amg", "max levels", "int"},
+                                                     {"fully-coupled-amg", "coarse: max size", "int"},
+                                                     {"fully-coupled-amg", "aggregation: min agg size", "int"},
+                                                     {"fully-coupled-amg", "prolongator", "string"},
+                                                     {"fully-coupled-amg", "sa: damping factor", "double"},
+                                                     {"fully-coupled-amg", "smoother: sweeps", "int"},
+                                                     {"fully-coupled-amg", "smoother: damping", "double"},
+                                                     {"fully-coupled-amg", "smoother: max growth", "double"},
+                                                     {"fully-coupled-amg", "block smoothers", "sublist"},
+                                                     {"block-relaxation", "method", "string"},
+                                                     {"block-relaxation", "sweeps", "int"},
+                                                     {"block-relaxation", "damping", "double"},
+                                                     {"block-relaxation", "block solvers", "sublist"}};
       const auto&                        l        = p.parameters;
       for (const auto& r : required)
         {
@@ -109,11 +122,13 @@ namespace multigrid
       if (list.isParameter("kind") && !list.isType<std::string>("kind"))
         throw InputError(file + ": parameter 'kind' must be of type string");
       p.kind = list.isParameter("kind") ? list.get<std::string>("kind") : std::string("muelu");
-      static const std::vector<std::string> kinds = {"amg", "saddle-point-amg", "cheapsimple", "direct",
-                                                     "muelu"};
+      static const std::vector<std::string> kinds = {"amg",    "saddle-point-amg", "cheapsimple",
+                                                     "direct", "muelu", "fully-coupled-amg",
+                                                     "block-relaxation"};
       if (std::find(kinds.begin(), kinds.end(), p.kind) == kinds.end())
         throw InputError(file + ": parameter 'kind' is '" + p.kind +
-                         "', expected amg, saddle-point-amg, cheapsimple, direct or muelu");
+                         "', expected amg, saddle-point-amg, cheapsimple, direct, muelu, fully-coupled-amg or "
+                         "block-relaxation");
       check_required_parameters(p, file);
       return p;
     }
@@ -135,8 +150,11 @@ namespace multigrid
     /// The lists of a preset that are MueLu parameter lists (MueLu reads and validates them).
     bool is_muelu_list(const Preset& preset, const std::string& parent)
     {
+      const std::string block_solvers = "block solvers/"; // block-relaxation: one MueLu list per block
       return (preset.kind == "amg" && parent == "MueLu") ||
-             (preset.kind == "cheapsimple" && (parent == "primal solver" || parent == "schur solver"));
+             (preset.kind == "cheapsimple" && (parent == "primal solver" || parent == "schur solver")) ||
+             (preset.kind == "block-relaxation" && parent.rfind(block_solvers, 0) == 0 &&
+              parent.find('/', block_solvers.size()) == std::string::npos);
     }
 
     /// Which parameters an override may add where a preset does not set them, with their types.

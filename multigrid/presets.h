@@ -7,6 +7,9 @@
 //                     solver", "schur solver": MueLu parameter lists)
 //   direct            SuperLU on the whole system (the project's adaptor)
 //   muelu             a complete MueLu XML of the user's (--xml FILE without a "kind")
+//   fully-coupled-amg one monolithic SA-AMG for n x n blocks, block Gauss-Seidel level smoother
+//                     (fully_coupled_amg.h)
+//   block-relaxation  block Gauss-Seidel / Jacobi outside, one solver per block (block_relaxation.h)
 // Any value can be overridden: "PATH=VALUE" with '/' between sublists, e.g.
 // "template parameters/MAX_LEVELS=2" or "primal solver/max levels=2".
 #pragma once
@@ -44,7 +47,8 @@ namespace multigrid
   /// Applies "PATH=VALUE" overrides; the value is converted to the type of the existing entry
   /// (a template parameter: checked against the type of the template's entry). A sublist or
   /// parameter the preset lacks is refused (InputError listing the known ones), except a parameter
-  /// of MueLu's master list at the top of a MueLu list ("MueLu", "primal solver", "schur solver")
+  /// of MueLu's master list at the top of a MueLu list ("MueLu", "primal solver", "schur solver",
+  /// "block solvers/NAME")
   /// and CheapSIMPLE's optional keys (predictor, schur nullspace, spai: ...) at the top level.
   /// An override written "[P1, P2] PATH=VALUE" applies only when the preset is one of those named
   /// (so a parameter file can carry the settings of several presets and the preset can be switched

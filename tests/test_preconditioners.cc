@@ -5,9 +5,11 @@
 //  - the beam/solid presets to a two-field system without multipliers, like beam/solid
 //    meshtying: the two bodies of tied-blocks as two fields coupled by a penalty eps B^T B
 //    (B: the mortar constraint rows), each field with its rigid-body modes;
-//  - the single-field AMG presets to the same penalty system as one field.
+//  - the single-field AMG presets to the same penalty system as one field;
+//  - the n x n block (FSI) presets to the 3-block coupled-fields model system.
 // A last test checks that these lists cover every shipped preset.
 #include "block_preconditioner.h"
+#include "coupled_fields.h"
 #include "model_problems.h"
 #include "presets.h"
 
@@ -30,6 +32,8 @@ namespace
   const std::vector<std::string> beam_solid_presets   = {"schur-sa-amg(spai)", "spai-simple(schur-sa-amg)",
                                                          "block-diagonal-sa-amg"};
   const std::vector<std::string> single_field_presets = {"pa-amg", "sa-amg"};
+  /// The n x n block presets (FSI), applied to the 3-block model system.
+  const std::vector<std::string> nxn_presets = {"fully-coupled-sa-amg(bgs)", "bgs(amg)", "block-jacobi(amg)"};
 
   /// K + eps B^T B on the primal DOFs of tied-blocks: the bodies tied by a penalty instead of
   /// multipliers (eps of the order of the stiffness entries).
@@ -85,6 +89,8 @@ namespace
   {
     if (preset.kind == "saddle-point-amg")
       preset.parameters.sublist("template parameters").set("COARSE_MAX_SIZE", std::string("100"));
+    if (preset.kind == "fully-coupled-amg")
+      preset.parameters.set("coarse: max size", 300);
     BlockPreconditioner M(system, preset);
     using MVF = Xpetra::MultiVectorFactory<SC, LO, GO, NO>;
     auto x = MVF::Build(system.full_map(), 1), y = MVF::Build(system.full_map(), 1);
@@ -117,6 +123,7 @@ TEST_P(PresetLinearity, IsLinear)
   };
   const BlockSystem system = in(beam_solid_presets)   ? penalty_system(2)
                              : in(single_field_presets) ? penalty_system(1)
+                             : in(nxn_presets)          ? coupled_fields_2d(comm(), {1, false})
                                                         : tied_blocks_2d(comm(), {});
   EXPECT_LT(nonlinearity(system, load_preset(name)), 1e-10) << name;
 }
@@ -127,12 +134,14 @@ INSTANTIATE_TEST_SUITE_P(SingleFieldPresets, PresetLinearity, ::testing::ValuesI
                          test_helpers::PresetName());
 INSTANTIATE_TEST_SUITE_P(BeamSolidPresets, PresetLinearity, ::testing::ValuesIn(beam_solid_presets),
                          test_helpers::PresetName());
+INSTANTIATE_TEST_SUITE_P(NxnPresets, PresetLinearity, ::testing::ValuesIn(nxn_presets), test_helpers::PresetName());
 
 TEST(PresetLinearity, CoversEveryShippedPreset)
 {
   std::vector<std::string> covered = test_helpers::contact_presets;
   covered.insert(covered.end(), beam_solid_presets.begin(), beam_solid_presets.end());
   covered.insert(covered.end(), single_field_presets.begin(), single_field_presets.end());
+  covered.insert(covered.end(), nxn_presets.begin(), nxn_presets.end());
   for (const auto& name : available_presets())
     EXPECT_NE(std::find(covered.begin(), covered.end(), name), covered.end())
         << "preset '" << name << "' is shipped but not in the linearity test's lists";
