@@ -3,7 +3,9 @@
 // saddle-point AMG against SuperLU, the benchmark on one rank against all ranks (ctest runs
 // this program on 1 and on 2 ranks; the rank comparison only on 2, see CMakeLists.txt), and
 // multi-body contact: a few collapsing rings (standard multipliers, saddle-point AMG, dynamics).
+#include "common/row_exchange.h"
 #include "contact/contact_problem.h"
+#include "contact/self_contact.h"
 
 #include <deal.II/base/mpi.h>
 
@@ -143,6 +145,54 @@ TEST(MultiBodyContact, PairWithUnknownBodyIsRejected)
       EXPECT_NE(std::string(e.what()).find("parameter 'Pairs': body 99 has no contact faces"), std::string::npos)
           << e.what();
     }
+}
+
+// The self-contact check with a distributed slave side: two crossing faces of one body owned by
+// different ranks (on one rank: both on it) are found on every rank; faces whose boxes do not meet
+// are not sent, and a body's faces that only touch at a shared node do not count.
+TEST(SelfContact, CrossingFacesOnDifferentRanksAreFound)
+{
+  const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+  const unsigned int size = dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
+  auto segment = [](dealii::types::global_dof_index a, dealii::types::global_dof_index b, double x0, double y0,
+                    double x1, double y1) {
+    BodySegment s;
+    s.body = 0;
+    s.node = {{a, b}};
+    s.x    = {{{{x0, y0}}, {{x1, y1}}}};
+    return s;
+  };
+  auto check = [&](const std::vector<BodySegment>& own) {
+    auto segments = exchange_nearby_segments(own, MPI_COMM_WORLD);
+    segments.insert(segments.end(), own.begin(), own.end());
+    return physics::lowest_rank_message(find_self_crossing(segments), MPI_COMM_WORLD);
+  };
+  const BodySegment a = segment(0, 2, 0, 0, 1, 1), b = segment(4, 6, 0, 1, 1, 0), far = segment(4, 6, 5, 5, 6, 6),
+                    touching = segment(2, 6, 1, 1, 2, 0);
+  // Rank 0 owns a, the last rank b (one rank: both).
+  std::vector<BodySegment> own;
+  if (rank == 0)
+    own.push_back(a);
+  if (rank == size - 1)
+    own.push_back(b);
+  const std::string found = check(own);
+  EXPECT_NE(found.find("body 0 penetrates itself near (0.5, 0.5)"), std::string::npos) << "'" << found << "'";
+
+  own.clear();
+  if (rank == 0)
+    own.push_back(a);
+  if (rank == size - 1)
+    own.push_back(far);
+  EXPECT_EQ(check(own), "");
+  const auto received = exchange_nearby_segments(own, MPI_COMM_WORLD);
+  EXPECT_TRUE(received.empty()) << "a far face's box meets nobody's";
+
+  own.clear();
+  if (rank == 0)
+    own.push_back(a);
+  if (rank == size - 1)
+    own.push_back(touching);
+  EXPECT_EQ(check(own), "");
 }
 
 class PatchTest : public ::testing::TestWithParam<std::tuple<int, bool>>
