@@ -15,20 +15,6 @@ namespace multigrid
 {
   namespace
   {
-    /// The same local values on another map with the same local layout.
-    RCP<::multigrid::MultiVector> on_map(const ::multigrid::MultiVector&    v,
-                                         const RCP<const ::multigrid::Map>& map)
-    {
-      auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, v.getNumVectors());
-      for (std::size_t j = 0; j < v.getNumVectors(); ++j)
-        {
-          const auto src = v.getData(j);
-          auto       dst = copy->getDataNonConst(j);
-          std::copy(src.begin(), src.end(), dst.begin());
-        }
-      return copy;
-    }
-
     /// `map` with every global id shifted by -offset.
     RCP<const ::multigrid::Map> shifted(const ::multigrid::Map& map, GO offset)
     {
@@ -78,7 +64,7 @@ namespace multigrid
           return;
         }
       const auto map = A_zero_based->getRangeMap();
-      auto       r0  = on_map(r, map),
+      auto       r0  = ::multigrid::with_map(r, map),
            dx0       = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, r.getNumVectors(), true);
       amg->Iterate(*r0, *dx0, 1, true);
       for (std::size_t j = 0; j < dx.getNumVectors(); ++j)
@@ -136,7 +122,7 @@ namespace multigrid
             solver->A_zero_based = zero_based(*solver->A, block.offset);
             solver->amg          = build_single_field_hierarchy(
                          solver->A_zero_based, block.dofs_per_node,
-                         on_map(*system.nullspace_or_translations(k), solver->A_zero_based->getRowMap()), list);
+                         ::multigrid::with_map(*system.nullspace_or_translations(k), solver->A_zero_based->getRowMap()), list);
             use_superlu_coarse_solver(*solver->amg);
           }
         else

@@ -297,4 +297,16 @@ namespace multigrid
       }
     return modes;
   }
+
+  RCP<MultiVector> with_map(const MultiVector& v, const RCP<const Map>& map)
+  {
+    auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, v.getNumVectors());
+    for (std::size_t j = 0; j < v.getNumVectors(); ++j)
+      {
+        const auto src = v.getData(j);
+        auto       dst = copy->getDataNonConst(j);
+        std::copy(src.begin(), src.end(), dst.begin());
+      }
+    return copy;
+  }
 } // namespace multigrid

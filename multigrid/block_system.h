@@ -115,4 +115,8 @@ namespace multigrid
 
   /// Translations only: one constant vector per DOF component.
   RCP<MultiVector> translation_modes(const RCP<const Map>& dof_map, int dofs_per_node);
+
+  /// The same local values on another map with the same local length (e.g. a block's vector on
+  /// its zero-based or file-order twin map).
+  RCP<MultiVector> with_map(const MultiVector& v, const RCP<const Map>& map);
 } // namespace multigrid

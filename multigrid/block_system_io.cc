@@ -282,19 +282,6 @@ namespace multigrid
       return v;
     }
 
-    /// The same local values on another map with the same local length.
-    RCP<MultiVector> with_map(const MultiVector& v, const RCP<const Map>& map)
-    {
-      auto copy = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(map, v.getNumVectors());
-      for (std::size_t j = 0; j < v.getNumVectors(); ++j)
-        {
-          const auto src = v.getData(j);
-          auto       dst = copy->getDataNonConst(j);
-          std::copy(src.begin(), src.end(), dst.begin());
-        }
-      return copy;
-    }
-
     /// Contiguous chunk of `n` items owned by `rank` out of `size`.
     std::pair<GO, GO> chunk(GO n, int rank, int size)
     {
