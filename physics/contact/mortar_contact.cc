@@ -209,7 +209,6 @@ namespace physics::contact
       throw std::invalid_argument("mortar contact: expected a vector-valued linear element with dim DOFs per vertex");
     dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant_);
 
-    const auto owned_per_rank = dealii::Utilities::MPI::all_gather(comm_, owned_);
     const auto local          = local_surface_faces(dof_handler, settings);
     const unsigned int rank   = dealii::Utilities::MPI::this_mpi_process(comm_);
 
@@ -261,7 +260,6 @@ namespace physics::contact
                   node.dofs[c]      = faces.dofs[dim * v + c];
                   node.reference[c] = faces.coordinates[dim * v + c];
                 }
-              node.owner = owning_rank(owned_per_rank, node.dofs[0]);
               it         = index.emplace(node.dofs[0], nodes.size()).first;
               nodes.push_back(node);
             }

@@ -89,7 +89,6 @@ namespace physics::contact
   {
     std::array<global_dof_index, dim> dofs;
     dealii::Point<dim>                reference;
-    unsigned int                      owner = 0; ///< rank owning the node's DOFs
   };
 
   /// Faces of one side; nodes index into the side's node list, ordered for an outward normal.
