@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 namespace physics
@@ -135,6 +136,24 @@ namespace physics
     return "";
   }
 
+  std::string NewtonSolver::state_cycle(std::uint64_t state, int iteration, double residual, StatesSeen& seen,
+                                        std::uint64_t& last)
+  {
+    if (state == 0)
+      return "";
+    // A set that comes back with a residual well below the one it had before is the iteration
+    // closing in on a solution (the iterate, not only the set, decides the next step under finite
+    // deformation); one that comes back without that progress is a cycle.
+    std::string failure;
+    const auto  earlier = seen.find(state);
+    if (state != last && earlier != seen.end() && residual > 0.5 * earlier->second.second)
+      failure = "the active set cycles: the set of Newton step " + std::to_string(earlier->second.first) +
+                " is back at step " + std::to_string(iteration) + " without reducing the residual";
+    seen[state] = {iteration, residual};
+    last        = state;
+    return failure;
+  }
+
   NewtonResult NewtonSolver::solve(NonlinearProblem& problem, const std::function<void(JsonLinesLog::Line&)>& step_fields,
                                    const std::string& export_prefix)
   {
@@ -148,6 +167,9 @@ namespace physics
     std::vector<double>      largest, since_update;
     double                   merit_before = 0, step_length = 1;
     multigrid::RCP<multigrid::MultiVector> dx;
+    // The problem's discrete states of this step (signature -> last iteration, its residual).
+    StatesSeen                   states_seen;
+    std::uint64_t                last_state = 0;
 
     // One linearization with its log line started: returns false (result.failure set) if the
     // assembly failed.
@@ -166,9 +188,8 @@ namespace physics
         }
       catch (const std::domain_error& e)
         {
+          // Logged by the caller: the line search may still take a shorter update.
           result.failure = std::string("the assembly failed: ") + e.what();
-          line.add("failure", result.failure);
-          log_.write(line);
           return false;
         }
       const double seconds = wall.wall_time();
@@ -201,20 +222,35 @@ namespace physics
 
     for (int it = 0;; ++it)
       {
-        if (!linearize(it))
-          return result;
-        // Backtracking: take half of the last update back while the merit function grew.
-        for (int halving = 0; settings_.line_search && it > 0 && halving < settings_.line_search_steps &&
-                              std::isfinite(merit_before) && !(merit(lin.residual_norms, largest) < merit_before);
+        bool assembled = linearize(it);
+        // Backtracking: take half of the last update back while the merit function grew or the
+        // update inverted an element. Only where the problem's state (the active set) stayed as
+        // it was: a semi-smooth Newton step that changes the active set may raise the residual by
+        // orders of magnitude on its way to the solution, and shortening it only stalls the
+        // iteration between sets (measured on the collapsing rings: 20 Newton steps without
+        // convergence where the full steps converge or reveal a cycle at once).
+        const auto reject = [&] {
+          return !assembled || (problem.may_converge() && std::isfinite(merit_before) &&
+                                !(merit(lin.residual_norms, largest) < merit_before));
+        };
+        for (int halving = 0; settings_.line_search && it > 0 && halving < settings_.line_search_steps && reject();
              ++halving)
           {
             line.add("line_search_rejected", step_length);
+            if (!assembled)
+              line.add("rejected_because", result.failure);
             log_.write(line);
             step_length *= 0.5;
             problem.set_update_length(step_length);
-            if (!linearize(it))
-              return result;
+            result.failure.clear();
+            assembled = linearize(it);
             line.add("step_length", step_length);
+          }
+        if (!assembled)
+          {
+            line.add("failure", result.failure);
+            log_.write(line);
+            return result;
           }
         result.residuals.push_back(combined);
         print_iterate(it);
@@ -224,6 +260,8 @@ namespace physics
         // residual by orders of magnitude and still converge.
         result.failure = residual_failure(lin.residual_norms, problem.may_converge() ? since_update : std::vector<double>(),
                                           names);
+        if (result.failure.empty())
+          result.failure = state_cycle(problem.state_signature(), it, combined, states_seen, last_state);
         if (!problem.may_converge())
           since_update.clear(); // the reference starts again from the first iterate after the change
         else if (it >= 1)

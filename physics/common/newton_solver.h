@@ -46,7 +46,9 @@
 
 #include <mpi.h>
 
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <ostream>
 #include <set>
 #include <string>
@@ -110,6 +112,13 @@ namespace physics
     virtual Linearization linearize(int iteration) = 0;
     /// May the current iterate be accepted (in addition to the field tolerances)?
     virtual bool may_converge() const { return true; }
+    /// A fingerprint of the problem's discrete state at the current iterate (contact: the active
+    /// set), the same on every rank; 0 if the problem has none. A state that comes back after
+    /// others in one step without the residual having halved since its last visit is a cycle of
+    /// the semi-smooth Newton method (near a solution the Newton system depends on the state and
+    /// hardly on anything else, so the iteration would only repeat itself): the solver stops the
+    /// step with a failure, so the step driver cuts it at once instead of after the iteration budget.
+    virtual std::uint64_t state_signature() const { return 0; }
     /// x += dx, dx on the full map of the last linearization's system (the Newton update; rows
     /// with prescribed values may go to their targets).
     virtual void update(const multigrid::MultiVector& dx) = 0;
@@ -153,6 +162,12 @@ namespace physics
   private:
     /// Per-field convergence of `norms` against `reference` (largest norms of this step).
     bool fields_converged(const std::vector<double>& norms, const std::vector<double>& reference) const;
+    using StatesSeen = std::map<std::uint64_t, std::pair<int, double>>;
+    /// "" or why the step stops: `state` (NonlinearProblem::state_signature) differs from the
+    /// last iterate's but was seen earlier in this step at a residual not twice as large (a cycle
+    /// of the active-set iteration). `seen`: state -> (iteration, residual) of its last visit.
+    static std::string state_cycle(std::uint64_t state, int iteration, double residual, StatesSeen& seen,
+                                   std::uint64_t& last);
     /// Why the iterate cannot go on (empty if it can): non-finite residuals, or residuals that
     /// diverged from `reference` (empty: not judged).
     std::string residual_failure(const std::vector<double>& norms, const std::vector<double>& reference,

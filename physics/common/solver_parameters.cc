@@ -53,8 +53,10 @@ namespace physics
                       "A field whose residual grows beyond this factor times max(its largest norm since the first "
                       "update, absolute / relative tolerance) has diverged: the step fails and is cut (> 1).");
     prm.declare_entry("Line search", line_search ? "true" : "false", Bool(),
-                      "Backtracking: halve the update while the scaled merit function sum_f (||r_f|| / s_f)^2 "
-                      "does not decrease (s_f: the field's largest norm of the step).");
+                      "Backtracking: halve the update while it inverts an element or, where the update left "
+                      "the problem's discrete state (contact: the active set) unchanged, while the scaled merit "
+                      "function sum_f (||r_f|| / s_f)^2 does not decrease (s_f: the field's largest norm of the "
+                      "step).");
     prm.declare_entry("Line search steps", text(line_search_steps), Integer(1, 30),
                       "Halvings of one update at most (the last trial is kept).");
     for (const auto& field : fields)
