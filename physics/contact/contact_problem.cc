@@ -2,6 +2,7 @@
 
 #include "common/distributed_mesh.h"
 #include "common/newton_solver.h"
+#include "common/row_exchange.h"
 #include "common/run_directory.h"
 #include "common/run_output.h"
 #include "common/solid_dynamics.h"
@@ -23,6 +24,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -35,6 +37,14 @@ namespace physics::contact
 
   namespace
   {
+    /// splitmix64's finalizer: spreads the bits of a DOF number over the word (active-set signature).
+    std::uint64_t mix_bits(std::uint64_t z)
+    {
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+      return z ^ (z >> 31);
+    }
+
     template <int dim>
     class ContactProblem : public SteppedProblem
     {
@@ -47,6 +57,7 @@ namespace physics::contact
       Linearization            linearize(int iteration) override;
       /// Semi-smooth Newton: an iterate counts only when its evaluation left the active set as it was.
       bool        may_converge() const override { return !active_set_changed_; }
+      std::uint64_t state_signature() const override { return active_set_signature_; }
       void        update(const multigrid::MultiVector& dx) override;
       void        set_update_length(double step_length) override;
       void        describe(JsonLinesLog::Line& line, std::ostream& console) const override;
@@ -76,6 +87,8 @@ namespace physics::contact
       void final_state(ContactRunSummary& summary);
       /// After a converged step: the largest penetration (log, summary) and the self-contact check.
       void check_converged_contact(int number, double time);
+      /// Setup: a mesh whose bodies overlap in the reference configuration is bad input.
+      void check_initial_overlap();
 
       // Dynamics (generalized-alpha; see common/solid_dynamics.h).
       /// Mass matrix, initial velocity of the slave body, initial acceleration.
@@ -125,6 +138,7 @@ namespace physics::contact
       bool                          first_in_step_ = true;
       int                           n_active_ = 0, n_changed_ = 0;
       bool                          active_set_changed_ = true;
+      std::uint64_t                 active_set_signature_ = 0; ///< of the last evaluation (see count_active_set)
       ContactLinearSystem           linear_;      ///< the last linearization
       std::map<std::size_t, double> lifted_;      ///< local row -> prescribed target (first update)
       /// The last update's Newton direction without the prescribed rows, and its applied length
@@ -308,6 +322,7 @@ namespace physics::contact
       lambda_.reinit(owned_, comm_);
       lambda_ghosted_.reinit(owned_, relevant_, comm_);
 
+      check_initial_overlap();
       if (p_.dynamic())
         setup_dynamics();
 
@@ -486,14 +501,22 @@ namespace physics::contact
       // Each node counted by its owner.
       const auto& state = contact_->state();
       n_active_ = n_changed_ = 0;
+      // The set's signature: a sum of hashes of the active nodes' first DOF (order- and
+      // partition-independent; unsigned sums wrap), plus one so that "no node active" is a state
+      // too (0 means "no state" to the Newton solver).
+      std::uint64_t signature = 0;
       for (unsigned int j = 0; j < state.active.size(); ++j)
         if (contact_->owns_slave_node(j))
           {
             n_active_ += state.active[j];
             n_changed_ += !first_in_step_ && previous_active_[j] != state.active[j];
+            if (state.active[j])
+              signature += mix_bits(contact_->slave_nodes()[j].dofs[0]);
           }
       n_active_           = Utilities::MPI::sum(n_active_, comm_);
       n_changed_          = Utilities::MPI::sum(n_changed_, comm_);
+      MPI_Allreduce(MPI_IN_PLACE, &signature, 1, MPI_UINT64_T, MPI_SUM, comm_);
+      active_set_signature_ = signature + 1;
       active_set_changed_ = first_in_step_ || n_changed_ > 0;
       previous_active_    = state.active;
       first_in_step_      = false;
@@ -615,6 +638,34 @@ namespace physics::contact
       dynamics_->end_step(u_);
       contact_force_old_ = contact_force_new_; // the converged state's (last evaluation)
       log_energies(number, time);
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::check_initial_overlap()
+    {
+      // One evaluation in the reference configuration (u = 0, lambda = 0): a slave node inside a
+      // master body by more than round-off of the meshed geometry is a mesh that starts with
+      // bodies overlapping, which the contact constraints would push apart in the first step
+      // with an unphysical impulse. The active-set guess of the first real evaluation stays.
+      ContactContribution unused;
+      contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), slave_multipliers(),
+                         [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, unused);
+      contact_->restart_active_set();
+      const auto&        state     = contact_->state();
+      const double       tolerance = 1e-3 * contact_->minimal_slave_face_size();
+      double             deepest   = tolerance;
+      std::ostringstream where;
+      for (unsigned int j = 0; j < state.weight.size(); ++j)
+        if (contact_->owns_slave_node(j) && state.covered[j] && -state.weighted_gap[j] / state.weight[j] > deepest)
+          {
+            deepest = -state.weighted_gap[j] / state.weight[j];
+            where.str("");
+            where << "mesh file '" << p_.mesh_file << "': bodies overlap at the start: the slave node at ("
+                  << contact_->slave_nodes()[j].reference << ") lies " << deepest
+                  << " inside the master surface (allowed: 1e-3 of the smallest slave face, " << tolerance
+                  << "); move the bodies apart";
+          }
+      throw_if_any_rank_failed(where.str(), comm_);
     }
 
     template <int dim>

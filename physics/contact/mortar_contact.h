@@ -179,6 +179,9 @@ namespace physics::contact
                   const std::function<bool(global_dof_index)>& is_constrained, ContactContribution& out);
 
     const NodalContactState& state() const { return state_; }
+    /// The next evaluation takes the geometric active-set guess again (as the first one does):
+    /// after an evaluation that only looked at the geometry (the initial overlap check).
+    void restart_active_set() { first_evaluation_ = true; }
     /// Multiplier component c of slave node j in assembly numbering: n_dofs + the node's
     /// displacement DOF c (the multiplier lives with its node).
     global_dof_index multiplier_index(unsigned int j, unsigned int c) const { return n_dofs_ + slave_nodes_[j].dofs[c]; }
