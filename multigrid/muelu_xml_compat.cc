@@ -29,7 +29,8 @@ namespace multigrid
                   list.set(name, map_name_13_2);
                   changes.insert("map name '" + newer_map_name + "' -> '" + map_name_13_2 + "'");
                 }
-              if (name == "nullspace vectors: limit to" && (value == "2D translations" || value == "3D translations"))
+              if (name == "nullspace vectors: limit to" &&
+                  (value == "2D translations" || value == "3D translations"))
                 {
                   list.set(name, std::string("all"));
                   changes.insert("'nullspace vectors: limit to' " + value + " -> all");

@@ -86,8 +86,10 @@ namespace multigrid
       std::vector<idx_t> perm(A.n), iperm(A.n);
       idx_t              options[METIS_NOPTIONS];
       METIS_SetDefaultOptions(options);
-      if (METIS_NodeND(&n, xadj.data(), adjncy.data(), nullptr, options, perm.data(), iperm.data()) != METIS_OK)
-        throw std::runtime_error("SuperLU: METIS_NodeND failed on a graph of " + std::to_string(A.n) + " vertices");
+      if (METIS_NodeND(&n, xadj.data(), adjncy.data(), nullptr, options, perm.data(), iperm.data()) !=
+          METIS_OK)
+        throw std::runtime_error("SuperLU: METIS_NodeND failed on a graph of " + std::to_string(A.n) +
+                                 " vertices");
       // METIS: row i of the reordered matrix is row perm[i] of A, i.e. A's row j goes to iperm[j].
       std::copy(iperm.begin(), iperm.end(), perm_c.begin());
       return perm_c;
@@ -110,7 +112,7 @@ namespace multigrid
   /// diagonal row matching, non-free code: dldperm aborts the program, so it is not used.)
   struct SuperLUDirect::Factors
   {
-    CompressedColumns   B;  ///< A, then equilibrated in place by dgssvx
+    CompressedColumns   B; ///< A, then equilibrated in place by dgssvx
     std::vector<int>    perm_r, perm_c, etree;
     std::vector<double> R, C; ///< dgssvx's equilibration
     char                equed = 'N';
@@ -155,7 +157,7 @@ namespace multigrid
       SuperMatrix         Bx, Xx;
       dCreate_Dense_Matrix(&Bx, n, 1, none.data(), n, SLU_DN, SLU_D, SLU_GE);
       dCreate_Dense_Matrix(&Xx, n, 1, none.data(), n, SLU_DN, SLU_D, SLU_GE);
-      Bx.ncol = 0; // factorize only (dgssvx's convention)
+      Bx.ncol              = 0; // factorize only (dgssvx's convention)
       double        growth = 0, rcond = 0, ferr = 0, berr = 0;
       mem_usage_t   memory;
       SuperLUStat_t stat;
@@ -199,7 +201,8 @@ namespace multigrid
       StatInit(&stat);
       int info = 0;
       dgssvx(&solve_options, &A, perm_c.data(), perm_r.data(), etree.data(), &equed, R.data(), C.data(), &L,
-             &U, nullptr, 0, &Bx, &Xx, &growth, &rcond, ferr.data(), berr.data(), &glu, &memory, &stat, &info);
+             &U, nullptr, 0, &Bx, &Xx, &growth, &rcond, ferr.data(), berr.data(), &glu, &memory, &stat,
+             &info);
       StatFree(&stat);
       Destroy_SuperMatrix_Store(&Bx);
       Destroy_SuperMatrix_Store(&Xx);
@@ -251,11 +254,11 @@ namespace multigrid
     int info = 0;
     if (comm->getRank() == 0)
       {
-        factors_ = std::make_unique<Factors>();
-        const int        n = static_cast<int>(root->getNodeNumRows());
-        std::vector<int> row_pointers(1, 0), columns;
+        factors_              = std::make_unique<Factors>();
+        const int           n = static_cast<int>(root->getNodeNumRows());
+        std::vector<int>    row_pointers(1, 0), columns;
         std::vector<double> values;
-        const auto       col_map = root->getColMap();
+        const auto          col_map = root->getColMap();
         for (int i = 0; i < n; ++i)
           {
             Teuchos::ArrayView<const LO> cols;
@@ -267,7 +270,8 @@ namespace multigrid
                   columns.push_back(root_map_->getLocalElement(col_map->getGlobalElement(cols[k])));
                   values.push_back(vals[k]);
                 }
-            if (row_pointers.back() == static_cast<int>(columns.size()) && options.unit_diagonal_on_empty_rows)
+            if (row_pointers.back() == static_cast<int>(columns.size()) &&
+                options.unit_diagonal_on_empty_rows)
               {
                 columns.push_back(i);
                 values.push_back(1.0);
@@ -287,7 +291,8 @@ namespace multigrid
       Xpetra::IO<SC, LO, GO, NO>::Write(std::getenv("SUPERLU_DUMP_SINGULAR"), *A);
     if (info != 0)
       throw InputError("SuperLU: matrix of size " + std::to_string(A->getGlobalNumRows()) + " is " +
-                       "singular (zero pivot in column " + std::to_string(info) + "); expected a nonsingular system");
+                       "singular (zero pivot in column " + std::to_string(info) +
+                       "); expected a nonsingular system");
   }
 
   SuperLUDirect::~SuperLUDirect() = default;
