@@ -4,6 +4,7 @@
 #include "cheap_simple.h"
 #include "fully_coupled_amg.h"
 #include "hierarchy_utils.h"
+#include "muelu_xml_compat.h"
 #include "project_factories.h"
 #include "superlu_direct.h"
 
@@ -265,6 +266,8 @@ namespace multigrid
             muelu = p;
             muelu.remove("kind", false);
             muelu.remove("description", false);
+            for (auto& line : adapt_muelu_xml_to_13_2(muelu))
+              info_.notes.push_back(line);
           }
         if (system.n_blocks() != 2)
           throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +

@@ -318,7 +318,10 @@ namespace multigrid
         auto bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A);
         // A coarse DOF that P does not reach (an aggregate with fewer DOFs than nullspace vectors)
         // has an empty row and column; it decouples, so a unit diagonal makes the solve defined.
-        solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge(), true);
+        SuperLUOptions options;
+        options.unit_diagonal_on_empty_rows = true;
+        options.iterative_refinement        = false; // an exact-to-rounding coarse solve is enough
+        solver_ = std::make_shared<SuperLUDirect>(bA.is_null() ? A : bA->Merge(), options);
         this->IsSetup(true);
       }
 

@@ -1,10 +1,13 @@
 // The project's SuperLU adaptor (Debian's Amesos2 is built without SuperLU; see PLATFORM.md).
 //
-// SuperLUDirect gathers a distributed Xpetra matrix onto rank 0, factorizes it there with SuperLU
-// (column permutation COLAMD, partial pivoting, so saddle-point systems with zero diagonal blocks
-// are fine), and solves by gathering the right-hand side and scattering the solution back. This is
-// the right tool for coarse levels and for reference solutions on the sizes this project runs;
-// a SuperLU_DIST variant would be the next step for very large direct solves.
+// SuperLUDirect gathers a distributed Xpetra matrix onto rank 0, factorizes it there with SuperLU's
+// expert driver dgssvx, and solves by gathering the right-hand side and scattering the solution
+// back. Before the factorization the matrix is permuted and scaled by MC64 (large entries onto
+// the diagonal, |diagonal| = 1: saddle-point systems with zero diagonal blocks and rows of very
+// different scale) and ordered by METIS nested dissection; dgssvx equilibrates and, by default,
+// refines the solution iteratively (details in superlu_direct.cc). This is the right tool for
+// coarse levels and for reference solutions on the sizes this project runs; SuperLU_DIST would be
+// the next step for direct solves too large for one rank's memory.
 //
 // Diagnostics: with SUPERLU_DUMP_SINGULAR=FILE in the environment, a matrix found singular is
 // written to FILE (Matrix Market) before the error is raised.
@@ -23,13 +26,22 @@
 
 namespace multigrid
 {
+  struct SuperLUOptions
+  {
+    /// Rows without a nonzero value get a one on the diagonal first (coarse levels: DOFs the
+    /// prolongator does not reach).
+    bool unit_diagonal_on_empty_rows = false;
+    /// dgssvx's iterative refinement on every solve (one residual and usually one more solve):
+    /// for whole-system solves and references; coarse levels of a preconditioner do without.
+    bool iterative_refinement = true;
+  };
+
   class SuperLUDirect
   {
   public:
     /// Factorizes A (square, fill-complete). Throws InputError if A is structurally or
-    /// numerically singular. With `unit_diagonal_on_empty_rows`, rows without a nonzero value get
-    /// a one on the diagonal first (coarse levels: DOFs the prolongator does not reach).
-    explicit SuperLUDirect(const RCP<const Matrix>& A, bool unit_diagonal_on_empty_rows = false);
+    /// numerically singular.
+    explicit SuperLUDirect(const RCP<const Matrix>& A, const SuperLUOptions& options = SuperLUOptions());
     ~SuperLUDirect();
     SuperLUDirect(const SuperLUDirect&)            = delete;
     SuperLUDirect& operator=(const SuperLUDirect&) = delete;

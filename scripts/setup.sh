@@ -5,7 +5,10 @@
 #   scripts/setup.sh build  install and build only
 # Idempotent: packages already present are not reinstalled, the build is incremental.
 # (xvfb and xauth: postprocess/ renders VTK pictures offscreen under xvfb-run, which needs xauth,
-# only recommended by xvfb and so not installed by --no-install-recommends.)
+# only recommended by xvfb and so not installed by --no-install-recommends. libopenblas0-pthread:
+# an optimized BLAS/LAPACK; installing it points Debian's libblas.so.3/liblapack.so.3 alternatives
+# at OpenBLAS instead of the reference BLAS, which SuperLU, Ifpack2 and the SPAI's dense least
+# squares otherwise run on.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-build}"
@@ -13,7 +16,7 @@ mode="${1:-build}"
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libdeal.ii-dev trilinos-all-dev libopenmpi-dev openmpi-bin libmetis-dev
-  libsuperlu-dev libsuperlu-dist-dev gmsh libgmsh-dev
+  libsuperlu-dev libsuperlu-dist-dev libopenblas0-pthread gmsh libgmsh-dev
   libgtest-dev python3-numpy python3-scipy python3-matplotlib python3-vtk9 xvfb xauth python3-petsc4py
 )
 missing=()
@@ -30,6 +33,9 @@ fi
 # Open MPI refuses to run as root unless told (containers, CI).
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
+# One BLAS thread per process: the apps run one MPI rank per core, and OpenBLAS' own threads
+# would oversubscribe the cores (set it to more for a serial run with spare cores).
+export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 
 jobs="$(nproc)"
 # Warnings are errors here (CI): the project's own code builds warning-free with -Wall -Wextra.
