@@ -171,6 +171,13 @@ namespace multigrid
             "DualNodeID2PrimalNodeID", Teuchos::null,
             "Generating factory of the dual -> primal node mapping (coarse levels)");
         list->set<int>("number of DOFs per dual node", 1, "Multiplier DOFs per multiplier node");
+        list->set<RCP<const FactoryBase>>(
+            "blocked A", NoFactory::getRCP(),
+            "Generating factory of the level's 2 x 2 blocked operator (as SubBlockAFactory's "
+            "\"A\"), for its constraint block (1,0); read with \"separate inactive multipliers\"");
+        list->set<bool>("separate inactive multipliers", false,
+                        "Multiplier nodes whose constraint rows are all zero (inactive contact "
+                        "nodes: identity rows) get aggregates apart from the active ones");
         return list;
       }
 
@@ -178,6 +185,8 @@ namespace multigrid
       {
         Input(level, "A");
         Input(level, "Aggregates");
+        if (separate())
+          level.DeclareInput("A", GetFactory("blocked A").get(), this);
         if (level.GetLevelID() == 0)
           level.DeclareInput("DualNodeID2PrimalNodeID", NoFactory::get(), this);
         else
@@ -205,6 +214,8 @@ namespace multigrid
                                        << " on level " << level.GetLevelID());
         const GO offset = dofs->getGlobalNumElements() > 0 ? dofs->getMinAllGlobalIndex() : 0;
 
+        const std::vector<bool> active = active_nodes(level, *dofs, dpn, n_local);
+
         std::vector<GO> nodes(n_local);
         for (LO i = 0; i < n_local; ++i)
           nodes[i] = (dofs->getGlobalElement(i * dpn) - offset) / dpn;
@@ -218,18 +229,20 @@ namespace multigrid
         const auto primal_vertex_to_aggregate = primal->GetVertex2AggId()->getData(0);
 
         auto             coarse_dual_to_primal = Teuchos::rcp(new DualToPrimal());
-        std::map<LO, LO> primal_to_dual_aggregate;
+        // key: (primal aggregate, active)
+        std::map<std::pair<LO, bool>, LO> primal_to_dual_aggregate;
         for (LO i = 0; i < n_local; ++i)
           {
             const LO primal_aggregate = primal_vertex_to_aggregate[dual_to_primal->at(i)];
             TEUCHOS_TEST_FOR_EXCEPTION(primal_aggregate < 0, MueLu::Exceptions::RuntimeError,
                                        "NodeInterfaceAggregationFactory: slave node "
                                            << dual_to_primal->at(i) << " is in no aggregate");
-            auto it = primal_to_dual_aggregate.find(primal_aggregate);
+            const std::pair<LO, bool> key(primal_aggregate, active[i]);
+            auto                      it = primal_to_dual_aggregate.find(key);
             if (it == primal_to_dual_aggregate.end())
               {
                 const LO k                  = static_cast<LO>(primal_to_dual_aggregate.size());
-                it                          = primal_to_dual_aggregate.emplace(primal_aggregate, k).first;
+                it                          = primal_to_dual_aggregate.emplace(key, k).first;
                 (*coarse_dual_to_primal)[k] = primal_aggregate; // coarse dual node -> coarse primal node
               }
             vertex_to_aggregate[i] = it->second;
@@ -249,6 +262,57 @@ namespace multigrid
         Set(level, "Aggregates", aggregates);
         Set(level, "UnAmalgamationInfo", amalgamation);
         Set(level, "CoarseDualNodeID2PrimalNodeID", coarse_dual_to_primal);
+      }
+
+    private:
+      bool separate() const { return GetParameterList().get<bool>("separate inactive multipliers"); }
+
+      /// Active multiplier nodes: some constraint row of the node has a non-zero entry. Inactive
+      /// contact nodes carry identity rows (lambda = 0, no displacement coupling); an aggregate
+      /// mixing both gets the coarse row (n_inactive/n) lambda_c + sum(B_active x)/sqrt(n): its
+      /// O(1) identity part outweighs B A^-1 B^T (~1e-3 on the rings) and the coarse multiplier
+      /// spreads the contact force over nodes that must carry none, so the coarse level loses the
+      /// contacts that hold nearly floating bodies. On coarse levels the split is exact: a coarse
+      /// row of inactive nodes only is zero again. All nodes are active when "B" is not given.
+      std::vector<bool> active_nodes(Level& level, const Map& dofs, int dpn, LO n_local) const
+      {
+        std::vector<bool> active(n_local, true);
+        if (!separate())
+          return active;
+        auto blocked = Teuchos::rcp_dynamic_cast<Xpetra::BlockedCrsMatrix<SC, LO, GO, NO>>(
+                level.Get<RCP<Matrix>>("A", GetFactory("blocked A").get()));
+        TEUCHOS_TEST_FOR_EXCEPTION(blocked.is_null() || blocked->Rows() != 2 || blocked->Cols() != 2,
+                                   MueLu::Exceptions::RuntimeError,
+                                   "NodeInterfaceAggregationFactory: separate inactive multipliers "
+                                   "needs a 2 x 2 blocked operator on level " << level.GetLevelID());
+        RCP<Matrix> B = blocked->getMatrix(1, 0);
+        if (B.is_null()) // no constraint entries at all (Galerkin product of a zero block)
+          return std::vector<bool>(n_local, false);
+        TEUCHOS_TEST_FOR_EXCEPTION(static_cast<LO>(B->getNodeNumRows()) != n_local * dpn,
+                                   MueLu::Exceptions::RuntimeError,
+                                   "NodeInterfaceAggregationFactory: constraint block has "
+                                       << B->getNodeNumRows() << " rows, expected " << n_local * dpn
+                                       << " on level " << level.GetLevelID());
+        const auto rows = B->getRowMap();
+        for (LO i = 0; i < n_local; ++i)
+          {
+            bool nonzero = false;
+            for (int k = 0; k < dpn; ++k)
+              {
+                const LO row = i * dpn + k;
+                TEUCHOS_TEST_FOR_EXCEPTION(rows->getGlobalElement(row) != dofs.getGlobalElement(row),
+                                           MueLu::Exceptions::RuntimeError,
+                                           "NodeInterfaceAggregationFactory: constraint block rows "
+                                           "are not ordered as the multiplier block's");
+                Teuchos::ArrayView<const LO> columns;
+                Teuchos::ArrayView<const SC> values;
+                B->getLocalRowView(row, columns, values);
+                for (const SC v : values)
+                  nonzero = nonzero || v != 0.0;
+              }
+            active[i] = nonzero;
+          }
+        return active;
       }
     };
 
