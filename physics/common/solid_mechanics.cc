@@ -1,5 +1,7 @@
 #include "common/solid_mechanics.h"
 
+#include "common/row_exchange.h"
+
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -7,6 +9,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <stdexcept>
+#include <string>
 
 namespace physics
 {
@@ -54,97 +57,113 @@ namespace physics
                       TrilinosWrappers::MPI::Vector& residual, TrilinosWrappers::SparseMatrix* tangent,
                       const ResidualWeights& weights)
   {
-    const auto&       fe = dof_handler.get_fe();
-    const QGauss<dim> quadrature(fe.degree + 1);
+    const auto&           fe = dof_handler.get_fe();
+    const QGauss<dim>     quadrature(fe.degree + 1);
     const QGauss<dim - 1> face_quadrature(fe.degree + 1);
-    const bool        inertia = weights.mass != 0.0;
-    FEValues<dim>     fe_values(fe, quadrature,
-                                update_gradients | update_JxW_values | (inertia ? update_values : update_default));
-    FEFaceValues<dim> fe_face_values(fe, face_quadrature, update_values | update_JxW_values);
+    const bool            inertia = weights.mass != 0.0;
+    FEValues<dim>         fe_values(
+                fe, quadrature, update_gradients | update_JxW_values | (inertia ? update_values : update_default));
+    FEFaceValues<dim>                fe_face_values(fe, face_quadrature, update_values | update_JxW_values);
     const FEValuesExtractors::Vector displacement(0);
 
-    const unsigned int n = fe.n_dofs_per_cell();
-    FullMatrix<double> cell_matrix(n, n);
-    Vector<double>     cell_residual(n);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_matrix(n, n);
+    Vector<double>                       cell_residual(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<Tensor<2, dim>>          F, grad_N(n);
     std::vector<Tensor<1, dim>>          u_q;
 
+    // An inverted element on one rank must stop the assembly on every rank at the same point
+    // (before the collective compress), with the same message: the Newton solver then cuts the step
+    // or shortens the update everywhere alike.
+    std::string inverted;
     for (const auto& cell : dof_handler.active_cell_iterators())
       {
         if (!cell->is_locally_owned())
           continue;
-        const auto& material = material_of(model, cell->material_id());
-        const double rho     = inertia ? density_of(model, cell->material_id()) : 0.0;
-        fe_values.reinit(cell);
-        deformation_gradients(fe_values, u, F);
-        cell_matrix   = 0;
-        cell_residual = 0;
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
+        try
           {
-            const auto           st  = material.stress_and_tangent(F[q]);
-            const Tensor<2, dim> P   = F[q] * Tensor<2, dim>(st.S);
-            const double         JxW = fe_values.JxW(q);
-            for (unsigned int i = 0; i < n; ++i)
-              grad_N[i] = fe_values[displacement].gradient(i, q);
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                cell_residual(i) += scalar_product(P, grad_N[i]) * JxW;
-                if (!tangent)
-                  continue;
-                // K_ij = (grad N_i S) : grad N_j + sym(F^T grad N_i) : CC : sym(F^T grad N_j)
-                const SymmetricTensor<2, dim> dE_i = symmetrize(transpose(F[q]) * grad_N[i]);
-                const SymmetricTensor<2, dim> dS_i = st.CC * dE_i;
-                for (unsigned int j = 0; j < n; ++j)
-                  {
-                    const double geometric = scalar_product(grad_N[i] * Tensor<2, dim>(st.S), grad_N[j]);
-                    const double mat       = dS_i * symmetrize(transpose(F[q]) * grad_N[j]);
-                    cell_matrix(i, j) += (geometric + mat) * JxW;
-                  }
-              }
-          }
-        // Dead nominal tractions: subtract int t0 . N_i dA.
-        for (const unsigned int f : cell->face_indices())
-          {
-            if (!cell->face(f)->at_boundary())
-              continue;
-            const auto t = model.tractions.find(cell->face(f)->boundary_id());
-            if (t == model.tractions.end())
-              continue;
-            fe_face_values.reinit(cell, f);
-            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-              for (unsigned int i = 0; i < n; ++i)
-                cell_residual(i) -=
-                    fe_face_values[displacement].value(i, q) * t->second * fe_face_values.JxW(q);
-          }
-        cell_matrix *= weights.force;
-        cell_residual *= weights.force;
-        // Inertia: + c_m M u (residual) and + c_m M (Jacobian).
-        if (inertia)
-          {
-            u_q.resize(quadrature.size());
-            fe_values[displacement].get_function_values(u, u_q);
+            const auto&  material = material_of(model, cell->material_id());
+            const double rho      = inertia ? density_of(model, cell->material_id()) : 0.0;
+            fe_values.reinit(cell);
+            deformation_gradients(fe_values, u, F);
+            cell_matrix   = 0;
+            cell_residual = 0;
             for (unsigned int q = 0; q < quadrature.size(); ++q)
               {
-                const double m = weights.mass * rho * fe_values.JxW(q);
+                const auto           st  = material.stress_and_tangent(F[q]);
+                const Tensor<2, dim> P   = F[q] * Tensor<2, dim>(st.S);
+                const double         JxW = fe_values.JxW(q);
+                for (unsigned int i = 0; i < n; ++i)
+                  grad_N[i] = fe_values[displacement].gradient(i, q);
                 for (unsigned int i = 0; i < n; ++i)
                   {
-                    const Tensor<1, dim> N_i = fe_values[displacement].value(i, q);
-                    cell_residual(i) += m * (N_i * u_q[q]);
-                    if (tangent)
-                      for (unsigned int j = 0; j < n; ++j)
-                        cell_matrix(i, j) += m * (N_i * fe_values[displacement].value(j, q));
+                    cell_residual(i) += scalar_product(P, grad_N[i]) * JxW;
+                    if (!tangent)
+                      continue;
+                    // K_ij = (grad N_i S) : grad N_j + sym(F^T grad N_i) : CC : sym(F^T grad N_j)
+                    const SymmetricTensor<2, dim> dE_i = symmetrize(transpose(F[q]) * grad_N[i]);
+                    const SymmetricTensor<2, dim> dS_i = st.CC * dE_i;
+                    for (unsigned int j = 0; j < n; ++j)
+                      {
+                        const double geometric = scalar_product(grad_N[i] * Tensor<2, dim>(st.S), grad_N[j]);
+                        const double mat       = dS_i * symmetrize(transpose(F[q]) * grad_N[j]);
+                        cell_matrix(i, j) += (geometric + mat) * JxW;
+                      }
                   }
               }
+            // Dead nominal tractions: subtract int t0 . N_i dA.
+            for (const unsigned int f : cell->face_indices())
+              {
+                if (!cell->face(f)->at_boundary())
+                  continue;
+                const auto t = model.tractions.find(cell->face(f)->boundary_id());
+                if (t == model.tractions.end())
+                  continue;
+                fe_face_values.reinit(cell, f);
+                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                  for (unsigned int i = 0; i < n; ++i)
+                    cell_residual(i) -=
+                        fe_face_values[displacement].value(i, q) * t->second * fe_face_values.JxW(q);
+              }
+            cell_matrix *= weights.force;
+            cell_residual *= weights.force;
+            // Inertia: + c_m M u (residual) and + c_m M (Jacobian).
+            if (inertia)
+              {
+                u_q.resize(quadrature.size());
+                fe_values[displacement].get_function_values(u, u_q);
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  {
+                    const double m = weights.mass * rho * fe_values.JxW(q);
+                    for (unsigned int i = 0; i < n; ++i)
+                      {
+                        const Tensor<1, dim> N_i = fe_values[displacement].value(i, q);
+                        cell_residual(i) += m * (N_i * u_q[q]);
+                        if (tangent)
+                          for (unsigned int j = 0; j < n; ++j)
+                            cell_matrix(i, j) += m * (N_i * fe_values[displacement].value(j, q));
+                      }
+                  }
+              }
+            cell->get_dof_indices(dofs);
+            if (tangent)
+              // true: a constrained row gets (its diagonal x inhomogeneity) in the residual, so that an
+              // inhomogeneous constraint is met by the Newton update (load increments).
+              constraints.distribute_local_to_global(cell_matrix, cell_residual, dofs, *tangent, residual,
+                                                     true);
+            else
+              constraints.distribute_local_to_global(cell_residual, dofs, residual);
           }
-        cell->get_dof_indices(dofs);
-        if (tangent)
-          // true: a constrained row gets (its diagonal x inhomogeneity) in the residual, so that an
-          // inhomogeneous constraint is met by the Newton update (load increments).
-          constraints.distribute_local_to_global(cell_matrix, cell_residual, dofs, *tangent, residual, true);
-        else
-          constraints.distribute_local_to_global(cell_residual, dofs, residual);
+        catch (const std::domain_error& e)
+          {
+            inverted = e.what();
+            break;
+          }
       }
+    const std::string message = lowest_rank_message(inverted, residual.get_mpi_communicator());
+    if (!message.empty())
+      throw std::domain_error(message);
     if (tangent)
       tangent->compress(VectorOperation::add);
     residual.compress(VectorOperation::add);
@@ -154,9 +173,9 @@ namespace physics
   void assemble_mass(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                      const AffineConstraints<double>& constraints, TrilinosWrappers::SparseMatrix& M)
   {
-    const auto&       fe = dof_handler.get_fe();
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(fe, quadrature, update_values | update_JxW_values);
+    const auto&                          fe = dof_handler.get_fe();
+    const QGauss<dim>                    quadrature(fe.degree + 1);
+    FEValues<dim>                        fe_values(fe, quadrature, update_values | update_JxW_values);
     const FEValuesExtractors::Vector     displacement(0);
     const unsigned int                   n = fe.n_dofs_per_cell();
     FullMatrix<double>                   cell_matrix(n, n);
@@ -171,8 +190,9 @@ namespace physics
         for (unsigned int q = 0; q < quadrature.size(); ++q)
           for (unsigned int i = 0; i < n; ++i)
             for (unsigned int j = 0; j < n; ++j)
-              cell_matrix(i, j) += rho * (fe_values[displacement].value(i, q) * fe_values[displacement].value(j, q)) *
-                                   fe_values.JxW(q);
+              cell_matrix(i, j) +=
+                  rho * (fe_values[displacement].value(i, q) * fe_values[displacement].value(j, q)) *
+                  fe_values.JxW(q);
         cell->get_dof_indices(dofs);
         constraints.distribute_local_to_global(cell_matrix, dofs, M);
       }
@@ -183,9 +203,9 @@ namespace physics
   double strain_energy(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                        const TrilinosWrappers::MPI::Vector& u)
   {
-    const auto&       fe = dof_handler.get_fe();
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    const auto&                 fe = dof_handler.get_fe();
+    const QGauss<dim>           quadrature(fe.degree + 1);
+    FEValues<dim>               fe_values(fe, quadrature, update_gradients | update_JxW_values);
     std::vector<Tensor<2, dim>> F;
     double                      energy = 0;
     for (const auto& cell : dof_handler.active_cell_iterators())
@@ -206,10 +226,10 @@ namespace physics
                           const TrilinosWrappers::MPI::Vector& u, std::vector<Vector<float>>& components,
                           Vector<float>& von_mises)
   {
-    const auto&   fe = dof_handler.get_fe();
+    const auto&       fe = dof_handler.get_fe();
     const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim> fe_values(fe, quadrature, update_gradients | update_JxW_values);
-    const auto    n_cells = dof_handler.get_triangulation().n_active_cells();
+    FEValues<dim>     fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    const auto        n_cells = dof_handler.get_triangulation().n_active_cells();
     components.assign(dim * dim, Vector<float>(n_cells));
     von_mises.reinit(n_cells);
     std::vector<Tensor<2, dim>> F;
@@ -240,22 +260,26 @@ namespace physics
       }
   }
 
-  template void assemble_solid<2>(const DoFHandler<2>&, const SolidModel<2>&, const TrilinosWrappers::MPI::Vector&,
-                                  const AffineConstraints<double>&, TrilinosWrappers::MPI::Vector&,
-                                  TrilinosWrappers::SparseMatrix*, const ResidualWeights&);
-  template void assemble_solid<3>(const DoFHandler<3>&, const SolidModel<3>&, const TrilinosWrappers::MPI::Vector&,
-                                  const AffineConstraints<double>&, TrilinosWrappers::MPI::Vector&,
-                                  TrilinosWrappers::SparseMatrix*, const ResidualWeights&);
+  template void assemble_solid<2>(const DoFHandler<2>&, const SolidModel<2>&,
+                                  const TrilinosWrappers::MPI::Vector&, const AffineConstraints<double>&,
+                                  TrilinosWrappers::MPI::Vector&, TrilinosWrappers::SparseMatrix*,
+                                  const ResidualWeights&);
+  template void assemble_solid<3>(const DoFHandler<3>&, const SolidModel<3>&,
+                                  const TrilinosWrappers::MPI::Vector&, const AffineConstraints<double>&,
+                                  TrilinosWrappers::MPI::Vector&, TrilinosWrappers::SparseMatrix*,
+                                  const ResidualWeights&);
   template void assemble_mass<2>(const DoFHandler<2>&, const SolidModel<2>&, const AffineConstraints<double>&,
                                  TrilinosWrappers::SparseMatrix&);
   template void assemble_mass<3>(const DoFHandler<3>&, const SolidModel<3>&, const AffineConstraints<double>&,
                                  TrilinosWrappers::SparseMatrix&);
-  template double strain_energy<2>(const DoFHandler<2>&, const SolidModel<2>&, const TrilinosWrappers::MPI::Vector&);
-  template double strain_energy<3>(const DoFHandler<3>&, const SolidModel<3>&, const TrilinosWrappers::MPI::Vector&);
-  template void cell_cauchy_stress<2>(const DoFHandler<2>&, const SolidModel<2>&,
+  template double strain_energy<2>(const DoFHandler<2>&, const SolidModel<2>&,
+                                   const TrilinosWrappers::MPI::Vector&);
+  template double strain_energy<3>(const DoFHandler<3>&, const SolidModel<3>&,
+                                   const TrilinosWrappers::MPI::Vector&);
+  template void   cell_cauchy_stress<2>(const DoFHandler<2>&, const SolidModel<2>&,
                                       const TrilinosWrappers::MPI::Vector&, std::vector<Vector<float>>&,
                                       Vector<float>&);
-  template void cell_cauchy_stress<3>(const DoFHandler<3>&, const SolidModel<3>&,
+  template void   cell_cauchy_stress<3>(const DoFHandler<3>&, const SolidModel<3>&,
                                       const TrilinosWrappers::MPI::Vector&, std::vector<Vector<float>>&,
                                       Vector<float>&);
 } // namespace physics
