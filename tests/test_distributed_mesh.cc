@@ -6,6 +6,7 @@
 // message instead of leaving the ranks that do not read it waiting. ctest runs it on 1 and 2
 // ranks (the storage test is only meaningful on 2).
 #include "common/distributed_mesh.h"
+#include "common/solid_mechanics.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
@@ -13,6 +14,8 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
 
 #include <gtest/gtest.h>
 
@@ -103,4 +106,65 @@ TEST(DistributedMesh, AGmshSourceIsMeshedOnceAndRefinedBeforePartitioning)
   physics::read_distributed_mesh<2>(geo, 1, 1, TEST_OUTPUT_DIR, fine);
   EXPECT_GT(coarse.n_global_active_cells(), 0u);
   EXPECT_EQ(fine.n_global_active_cells(), 4 * coarse.n_global_active_cells());
+}
+
+// An element that inverts in the cells of one rank only: every rank leaves the assembly with the
+// same std::domain_error (before, the rank that found it left while the others waited in the
+// matrix compress, and the next collective hung: the collapsing rings on 2 ranks).
+TEST(DistributedMesh, InvertedElementOnOneRankStopsTheAssemblyEverywhere)
+{
+  const MPI_Comm                               comm = MPI_COMM_WORLD;
+  const unsigned int                           last = Utilities::MPI::n_mpi_processes(comm) - 1;
+  parallel::fullydistributed::Triangulation<3> tria(comm);
+  make_box(tria);
+  const FESystem<3> fe(FE_Q<3>(1), 3);
+  DoFHandler<3>     dof_handler(tria);
+  dof_handler.distribute_dofs(fe);
+  const IndexSet owned = dof_handler.locally_owned_dofs();
+  IndexSet       relevant;
+  DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+  physics::SolidModel<3> model;
+  const std::shared_ptr<const physics::HyperelasticMaterial<3>> law =
+      physics::make_material<3>("NeoHooke", physics::LameParameters::from_young_poisson(1.0, 0.3));
+  for (const auto& cell : tria.active_cell_iterators())
+    model.materials[cell->material_id()] = law;
+  // The last rank pushes one vertex of its first cell through the opposite face (2 cell sizes in x).
+  TrilinosWrappers::MPI::Vector u_owned(owned, comm);
+  std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+  if (Utilities::MPI::this_mpi_process(comm) == last)
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          const types::global_dof_index x_dof = dofs[fe.component_to_system_index(0, 0)];
+          if (owned.is_element(x_dof))
+            {
+              u_owned[x_dof] = 0.4;
+              break;
+            }
+        }
+  u_owned.compress(VectorOperation::insert);
+  TrilinosWrappers::MPI::Vector u(owned, relevant, comm);
+  u = u_owned;
+
+  DynamicSparsityPattern pattern(relevant);
+  DoFTools::make_sparsity_pattern(dof_handler, pattern);
+  SparsityTools::distribute_sparsity_pattern(pattern, owned, comm, relevant);
+  TrilinosWrappers::SparseMatrix K;
+  K.reinit(owned, owned, pattern, comm);
+  TrilinosWrappers::MPI::Vector residual(owned, comm);
+  AffineConstraints<double>     none;
+  std::string                   message;
+  try
+    {
+      physics::assemble_solid(dof_handler, model, u, none, residual, &K);
+    }
+  catch (const std::domain_error& e)
+    {
+      message = e.what();
+    }
+  EXPECT_NE(message.find("det F"), std::string::npos) << "rank " << Utilities::MPI::this_mpi_process(comm);
+  // Every rank got the same message, and the communicator still works.
+  EXPECT_EQ(Utilities::MPI::max(static_cast<int>(message.size()), comm), static_cast<int>(message.size()));
 }
