@@ -28,8 +28,10 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace physics::contact
 {
@@ -89,6 +91,9 @@ namespace physics::contact
       void check_converged_contact(int number, double time);
       /// Setup: a mesh whose bodies overlap in the reference configuration is bad input.
       void check_initial_overlap();
+      /// The largest -g~_j / w_j of the last evaluation over this rank's owned covered slave nodes
+      /// and that node (-inf and -1 if it owns none).
+      std::pair<double, int> deepest_local_penetration() const;
 
       // Dynamics (generalized-alpha; see common/solid_dynamics.h).
       /// Mass matrix, initial velocity of the slave body, initial acceleration.
@@ -641,6 +646,17 @@ namespace physics::contact
     }
 
     template <int dim>
+    std::pair<double, int> ContactProblem<dim>::deepest_local_penetration() const
+    {
+      const auto&            state = contact_->state();
+      std::pair<double, int> deepest(-std::numeric_limits<double>::infinity(), -1);
+      for (unsigned int j = 0; j < state.weight.size(); ++j)
+        if (contact_->owns_slave_node(j) && state.covered[j] && -state.weighted_gap[j] / state.weight[j] > deepest.first)
+          deepest = {-state.weighted_gap[j] / state.weight[j], static_cast<int>(j)};
+      return deepest;
+    }
+
+    template <int dim>
     void ContactProblem<dim>::check_initial_overlap()
     {
       // One evaluation in the reference configuration (u = 0, lambda = 0): a slave node inside a
@@ -651,20 +667,14 @@ namespace physics::contact
       contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), slave_multipliers(),
                          [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, unused);
       contact_->restart_active_set();
-      const auto&        state     = contact_->state();
-      const double       tolerance = 1e-3 * contact_->minimal_slave_face_size();
-      double             deepest   = tolerance;
+      const double tolerance     = 1e-3 * contact_->minimal_slave_face_size();
+      const auto [deepest, node] = deepest_local_penetration();
       std::ostringstream where;
-      for (unsigned int j = 0; j < state.weight.size(); ++j)
-        if (contact_->owns_slave_node(j) && state.covered[j] && -state.weighted_gap[j] / state.weight[j] > deepest)
-          {
-            deepest = -state.weighted_gap[j] / state.weight[j];
-            where.str("");
-            where << "mesh file '" << p_.mesh_file << "': bodies overlap at the start: the slave node at ("
-                  << contact_->slave_nodes()[j].reference << ") lies " << deepest
-                  << " inside the master surface (allowed: 1e-3 of the smallest slave face, " << tolerance
-                  << "); move the bodies apart";
-          }
+      if (node >= 0 && deepest > tolerance)
+        where << "mesh file '" << p_.mesh_file << "': bodies overlap at the start: the slave node at ("
+              << contact_->slave_nodes()[node].reference << ") lies " << deepest
+              << " inside the master surface (allowed: 1e-3 of the smallest slave face, " << tolerance
+              << "); move the bodies apart";
       throw_if_any_rank_failed(where.str(), comm_);
     }
 
@@ -673,12 +683,7 @@ namespace physics::contact
     {
       // The last evaluation is the converged state's: its largest penetration, and (2D)
       // self-contact, which the mortar pairs do not handle: stop rather than let it pass.
-      const auto& state       = contact_->state();
-      double      penetration = 0;
-      for (unsigned int j = 0; j < state.weight.size(); ++j)
-        if (contact_->owns_slave_node(j) && state.covered[j])
-          penetration = std::max(penetration, -state.weighted_gap[j] / state.weight[j]);
-      penetration = Utilities::MPI::max(penetration, comm_);
+      const double penetration = Utilities::MPI::max(std::max(0.0, deepest_local_penetration().first), comm_);
       summary_.max_penetration = std::max(summary_.max_penetration, penetration);
       JsonLinesLog::Line line;
       line.add("converged_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
