@@ -12,7 +12,7 @@
 
 namespace
 {
-  const char* usage = R"USAGE(usage: beam_solid [PARAMETER_FILE.prm] [--set "Section/Entry=value"]...
+  const char* usage = R"USAGE(usage: beam_solid [PARAMETER_FILE.prm] [--set "Section/Entry=value"]... [--restart DIR]
        beam_solid --help | --print-parameters
 
 Beam/solid meshtying with penalty coupling (seed 001): straight fibres embedded in a box of Saint
@@ -23,6 +23,8 @@ Directory/beams.pvd (ParaView), and on request every Newton system for solve_blo
 
   --print-parameters   print every parameter with its default and documentation, then exit
   --set S/E=V          override one parameter after reading the file
+  --restart DIR        continue a run from its checkpoint DIR (Restart/Interval wrote it; DIR may be
+                       OUTPUT/restart, its newest): same parameters and number of MPI ranks
 Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 )USAGE";
 }

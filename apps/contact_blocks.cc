@@ -17,7 +17,7 @@
 
 namespace
 {
-  const char* usage = R"USAGE(usage: contact_blocks [PARAMETER_FILE.prm] [--set "Section/Entry=value"]...
+  const char* usage = R"USAGE(usage: contact_blocks [PARAMETER_FILE.prm] [--set "Section/Entry=value"]... [--restart DIR]
        contact_blocks --help | --print-parameters
 
 Frictionless mortar contact of two or more bodies meshed with gmsh (2D plane strain or 3D;
@@ -31,6 +31,8 @@ Newton system as a BlockSystem directory for solve_block_system.
   --print-parameters   print every parameter with its default and documentation, then exit
   --set S/E=V          override one parameter after reading the file, e.g.
                        --set "Linear solver/Preset=direct(superlu)"
+  --restart DIR        continue a run from its checkpoint DIR (Restart/Interval wrote it; DIR may be
+                       OUTPUT/restart, its newest): same parameters and number of MPI ranks
 Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 )USAGE";
 }

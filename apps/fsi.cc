@@ -19,7 +19,7 @@
 
 namespace
 {
-  const char* usage = R"USAGE(usage: fsi [PARAMETER_FILE.prm] [--set "Section/Entry=value"]...
+  const char* usage = R"USAGE(usage: fsi [PARAMETER_FILE.prm] [--set "Section/Entry=value"]... [--restart DIR]
        fsi --help | --print-parameters
 
 Condensed fluid/solid interaction (seed 001): incompressible Newtonian fluid (ALE Navier-Stokes,
@@ -38,6 +38,8 @@ for solve_block_system.
 
   --print-parameters   print every parameter with its default and documentation, then exit
   --set S/E=V          override one parameter after reading the file
+  --restart DIR        continue a run from its checkpoint DIR (Restart/Interval wrote it; DIR may be
+                       OUTPUT/restart, its newest): same parameters and number of MPI ranks
 Exit status: 0 converged, 1 Newton did not converge, 2 bad input.
 )USAGE";
 }

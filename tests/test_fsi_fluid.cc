@@ -68,7 +68,7 @@ namespace
 
   physics::StepSettings one_step()
   {
-    return physics::StepSettings{1.0, 1.0, 0.0, 0, 0};
+    return physics::StepSettings{1.0, 1.0, 0.0, 0, 0, 0, "", ""};
   }
 
   /// Poiseuille flow in [0, L] x [0, H]: u = 4 U y (H - y) / H^2, p = G (L - x), G = 8 mu U / H^2.
@@ -400,7 +400,7 @@ namespace
       s.mesh_motion = std::make_shared<DeformingMotion>(V);
     FluidFlow<2> flow(*tria, s, comm);
     flow.set_initial_state(*state);
-    const auto result = solve(flow, physics::StepSettings{0.5, 0.05, 0.0, 0, 0});
+    const auto result = solve(flow, physics::StepSettings{0.5, 0.05, 0.0, 0, 0, 0, "", ""});
     ASSERT_TRUE(result.converged) << result.failure;
     Vec exact(flow.owned_dofs(), comm);
     VectorTools::interpolate(flow.dof_handler(), *state, exact);
@@ -508,7 +508,7 @@ namespace
     s.mesh_motion    = std::make_shared<FoldingMotion>();
     FluidFlow<2> flow(tria, s, comm);
     flow.set_initial_state(*rest);
-    const auto result = solve(flow, physics::StepSettings{1.0, 0.25, 0.01, 3, 2});
+    const auto result = solve(flow, physics::StepSettings{1.0, 0.25, 0.01, 3, 2, 0, "", ""});
     if (root())
       std::cout << "inverted ALE cells: " << result.steps << " steps, " << result.cuts
                 << " cuts, failure: " << result.failure << "\n";

@@ -473,7 +473,7 @@ namespace physics::beam_solid
       newton_settings.export_directory = p_.output_directory + "/systems";
       NewtonSolver      newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_, timer_,
                                comm_);
-      const StepsResult result = run_steps(*this, p_.solver.step_settings(1.0, 1.0 / p_.load_steps), newton, log_, pcout_);
+      const StepsResult result = run_steps(*this, p_.solver.step_settings(1.0, 1.0 / p_.load_steps, p_.output_directory), newton, log_, pcout_);
 
       BeamSolidRunSummary summary;
       summary.beam_dofs       = beam_.n_dofs();

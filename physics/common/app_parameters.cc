@@ -396,8 +396,12 @@ unknown subsection or a value outside its pattern is an error, exit status 2.
           }
         if (a == "--set" && i + 1 >= argc)
           throw std::invalid_argument("--set: missing \"Section/Entry=value\"");
+        if (a == "--restart" && i + 1 >= argc)
+          throw std::invalid_argument("--restart: missing the checkpoint directory");
         if (a == "--set")
           sets.push_back(argv[++i]);
+        else if (a == "--restart")
+          sets.push_back(std::string("Restart/Resume from=") + argv[++i]);
         else if (!a.empty() && a[0] != '-' && file.empty())
           file = a;
         else

@@ -1,5 +1,6 @@
 // The command line every app of the project shares:
-//   APP [PARAMETER_FILE.prm] [--set "Section/Entry=value"]... | --help | --print-parameters
+//   APP [PARAMETER_FILE.prm] [--set "Section/Entry=value"]... [--restart DIR] | --help | --print-parameters
+// (--restart DIR is --set "Restart/Resume from=DIR").
 // The parameter file is read into a ParameterHandler whose entries the app has declared.
 #pragma once
 

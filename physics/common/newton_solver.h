@@ -158,6 +158,10 @@ namespace physics
                        const std::string& export_prefix);
 
     const NewtonSettings& settings() const { return settings_; }
+    MPI_Comm              communicator() const { return comm_; }
+    /// Linear solves so far (the count injected failures refer to; a restart continues it).
+    int  solves() const { return solves_; }
+    void set_solves(int n) { solves_ = n; }
 
   private:
     /// Per-field convergence of `norms` against `reference` (largest norms of this step).

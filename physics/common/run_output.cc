@@ -11,10 +11,32 @@
 namespace physics
 {
   JsonLinesLog::JsonLinesLog(const std::string& file)
-      : out_(file, std::ios::trunc)
+      : file_(file)
+      , out_(file, std::ios::trunc)
   {
     if (!out_)
       throw std::runtime_error(file + ": cannot open the run log for writing");
+  }
+
+  std::string JsonLinesLog::content() const
+  {
+    if (!out_.is_open())
+      return "";
+    std::ifstream      in(file_, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+
+  void JsonLinesLog::restore(const std::string& content)
+  {
+    if (!out_.is_open())
+      return;
+    out_.close();
+    write_atomically(file_, [&](std::ostream& out) { out << content; });
+    out_.open(file_, std::ios::app);
+    if (!out_)
+      throw std::runtime_error(file_ + ": cannot reopen the run log for writing");
   }
 
   void JsonLinesLog::Line::key(const std::string& k)
@@ -94,6 +116,30 @@ namespace physics
             << "\"/>\n";
       out << "  </Collection>\n</VTKFile>\n";
     });
+  }
+
+  std::string PvdSeries::entries() const
+  {
+    std::ostringstream text;
+    text << std::setprecision(17);
+    for (const auto& [t, f] : entries_)
+      text << t << " " << f << "\n";
+    return text.str();
+  }
+
+  void PvdSeries::restore(const std::string& entries)
+  {
+    entries_.clear();
+    std::istringstream in(entries);
+    double             t;
+    std::string        f;
+    while (in >> t >> f)
+      entries_.emplace_back(t, f);
+    if (entries_.empty())
+      return;
+    const auto last = entries_.back();
+    entries_.pop_back();
+    add(last.first, last.second); // rewrites the index
   }
 
   std::string json_escape(const std::string& s)

@@ -27,6 +27,12 @@ namespace physics
     /// Opens (truncates) `file`; throws std::runtime_error naming the file if it cannot.
     explicit JsonLinesLog(const std::string& file);
     bool is_open() const { return out_.is_open(); }
+    const std::string& file() const { return file_; }
+    /// The lines written so far (the file's content; "" on a closed log).
+    std::string content() const;
+    /// Replaces the file's content by `content` (atomically) and appends from there: a resumed
+    /// run continues the log its checkpoint holds. No-op on a closed log.
+    void restore(const std::string& content);
 
     /// Builder of one line: add fields, then write().
     class Line
@@ -46,6 +52,7 @@ namespace physics
     void write(const Line& line);
 
   private:
+    std::string   file_;
     std::ofstream out_;
   };
 
@@ -59,6 +66,10 @@ namespace physics
     }
     /// Adds (time, pvtu file name relative to the .pvd) and rewrites the index atomically.
     void add(double time, const std::string& pvtu);
+    /// The entries so far, one "time file" line each, and back (checkpoint/restart; rewrites the
+    /// index).
+    std::string entries() const;
+    void        restore(const std::string& entries);
 
   private:
     std::string                                  file_;

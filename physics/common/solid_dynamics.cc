@@ -91,6 +91,22 @@ namespace physics
     return 0.5 * (Mv * v_);
   }
 
+  template <int dim>
+  void SolidDynamics<dim>::save(Checkpoint& checkpoint, const std::string& prefix) const
+  {
+    checkpoint.store(prefix + "/u_old", u_old_);
+    checkpoint.store(prefix + "/velocity", v_);
+    checkpoint.store(prefix + "/acceleration", a_);
+  }
+
+  template <int dim>
+  void SolidDynamics<dim>::load(const Checkpoint& checkpoint, const std::string& prefix)
+  {
+    checkpoint.restore(prefix + "/u_old", u_old_);
+    checkpoint.restore(prefix + "/velocity", v_);
+    checkpoint.restore(prefix + "/acceleration", a_);
+  }
+
   template class SolidDynamics<2>;
   template class SolidDynamics<3>;
 } // namespace physics

@@ -8,6 +8,8 @@
 // (assemble_solid(..., weights())), then end_step(u_{n+1}).
 #pragma once
 
+#include "common/checkpoint.h"
+
 #include "common/solid_mechanics.h"
 #include "common/time_integration.h"
 
@@ -51,6 +53,10 @@ namespace physics
     void end_step(const dealii::TrilinosWrappers::MPI::Vector& u);
 
     double kinetic_energy() const;
+
+    /// u_n, v_n, a_n into a checkpoint under `prefix`/ and back (h_n is rebuilt by begin_step).
+    void save(Checkpoint& checkpoint, const std::string& prefix) const;
+    void load(const Checkpoint& checkpoint, const std::string& prefix);
 
   private:
     /// r(u) through `constraints`, assembled from a ghosted copy of u.

@@ -82,6 +82,17 @@ namespace physics
                       "step (0: never).");
     prm.leave_subsection();
 
+    prm.enter_subsection("Restart");
+    prm.declare_entry("Interval", text(checkpoint_interval), Integer(0, 1000000000),
+                      "Every this many converged steps the run writes a checkpoint to OUTPUT/restart/step_NNNNNN "
+                      "(the newest named in OUTPUT/restart/latest; older ones are removed). 0: none. contact_blocks "
+                      "writes and resumes checkpoints; the other apps refuse a value > 0 and --restart.");
+    prm.declare_entry("Resume from", "", Anything(),
+                      "A checkpoint directory, or a restart/ folder (its newest checkpoint), to continue a run "
+                      "from, on the same number of MPI ranks with the same parameters (the command line's "
+                      "--restart DIR sets it). Empty: start at the beginning.");
+    prm.leave_subsection();
+
     prm.enter_subsection("Linear solver");
     prm.declare_entry("Preset", preset, Anything(),
                       "Preconditioner preset of multigrid/presets (solve_block_system --list-presets).");
@@ -138,6 +149,11 @@ namespace physics
     growth_after = prm.get_integer("Growth after");
     prm.leave_subsection();
 
+    prm.enter_subsection("Restart");
+    checkpoint_interval = prm.get_integer("Interval");
+    resume_from         = prm.get("Resume from");
+    prm.leave_subsection();
+
     prm.enter_subsection("Linear solver");
     preset                = prm.get("Preset");
     overrides             = dealii::Utilities::split_string_list(prm.get("Overrides"), ';');
@@ -175,9 +191,12 @@ namespace physics
     return s;
   }
 
-  StepSettings SolverParameters::step_settings(double end_time, double step) const
+  StepSettings SolverParameters::step_settings(double end_time, double step, const std::string& output_directory) const
   {
     StepSettings s;
+    s.checkpoint_interval = checkpoint_interval;
+    s.checkpoint_root     = output_directory + "/restart";
+    s.resume_from         = resume_from;
     s.end_time     = end_time;
     s.step         = step;
     s.minimum_step = minimum_step_fraction * step;

@@ -1,5 +1,5 @@
 // The Newton, step-control and linear-solver settings every app's parameter file shares
-// (sections "Newton", "Step control" and "Linear solver"), read once here; each app only chooses
+// (sections "Newton", "Step control", "Restart" and "Linear solver"), read once here; each app only chooses
 // its defaults and names its residual fields.
 #pragma once
 
@@ -56,6 +56,9 @@ namespace physics
     // Step control
     int    max_step_cuts = 5, growth_after = 2;
     double minimum_step_fraction = 1e-3;
+    // Restart
+    int         checkpoint_interval = 0;
+    std::string resume_from;
 
     /// Declares the sections "Newton" (with a subsection per residual field in `fields`),
     /// "Step control" and "Linear solver" with this object's values as the defaults.
@@ -68,8 +71,9 @@ namespace physics
     multigrid::SolveOptions     solve_options() const;
     /// Newton settings for a problem with these residual fields.
     NewtonSettings newton_settings(const std::vector<std::string>& fields) const;
-    /// Step settings for steps of nominal length `step` up to `end_time`.
-    StepSettings step_settings(double end_time, double step) const;
+    /// Step settings for steps of nominal length `step` up to `end_time`, checkpoints under
+    /// `output_directory`/restart.
+    StepSettings step_settings(double end_time, double step, const std::string& output_directory) const;
   };
 
   /// A Newton step's linear solve in the run log (iterations, convergence, true relative

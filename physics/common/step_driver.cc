@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace physics
 {
@@ -25,6 +26,78 @@ namespace physics
         t_new = settings.end_time;
       return t_new;
     }
+
+    /// Where the driver stands after a converged step, the part of a checkpoint it owns.
+    struct DriverState
+    {
+      double time = 0, step = 0;
+      int    converged_in_a_row = 0;
+    };
+
+    void save_driver(Checkpoint& c, const DriverState& d, const StepsResult& result, const NewtonSolver& newton,
+                     const JsonLinesLog& log)
+    {
+      c.set("driver/time", d.time);
+      c.set("driver/step", d.step);
+      c.set("driver/converged_in_a_row", d.converged_in_a_row);
+      c.set("driver/steps", result.steps);
+      c.set("driver/cuts", result.cuts);
+      c.set("driver/solves", newton.solves());
+      // Each converged step's Newton result (the run's summary line counts them all).
+      std::vector<double> iterations, setup, solve, n_residuals, residuals, n_linear, linear;
+      for (const auto& n : result.newton)
+        {
+          iterations.push_back(n.iterations);
+          setup.push_back(n.setup_seconds);
+          solve.push_back(n.solve_seconds);
+          n_residuals.push_back(n.residuals.size());
+          residuals.insert(residuals.end(), n.residuals.begin(), n.residuals.end());
+          n_linear.push_back(n.linear_iterations.size());
+          linear.insert(linear.end(), n.linear_iterations.begin(), n.linear_iterations.end());
+        }
+      c.set("driver/newton_iterations", iterations);
+      c.set("driver/setup_seconds", setup);
+      c.set("driver/solve_seconds", solve);
+      c.set("driver/residual_counts", n_residuals);
+      c.set("driver/residuals", residuals);
+      c.set("driver/linear_counts", n_linear);
+      c.set("driver/linear_iterations", linear);
+      c.set_text("driver/run_log", log.content());
+    }
+
+    DriverState load_driver(const Checkpoint& c, StepsResult& result, NewtonSolver& newton, JsonLinesLog& log)
+    {
+      DriverState d;
+      d.time               = c.number("driver/time");
+      d.step               = c.number("driver/step");
+      d.converged_in_a_row = static_cast<int>(c.number("driver/converged_in_a_row"));
+      result.steps         = static_cast<int>(c.number("driver/steps"));
+      result.cuts          = static_cast<int>(c.number("driver/cuts"));
+      newton.set_solves(static_cast<int>(c.number("driver/solves")));
+      const auto& iterations = c.numbers("driver/newton_iterations");
+      const auto& setup = c.numbers("driver/setup_seconds");
+      const auto& solve = c.numbers("driver/solve_seconds");
+      const auto& n_residuals = c.numbers("driver/residual_counts");
+      const auto& residuals   = c.numbers("driver/residuals");
+      const auto& n_linear    = c.numbers("driver/linear_counts");
+      const auto& linear      = c.numbers("driver/linear_iterations");
+      std::size_t r = 0, l = 0;
+      for (std::size_t k = 0; k < iterations.size(); ++k)
+        {
+          NewtonResult n;
+          n.converged     = true;
+          n.iterations    = static_cast<int>(iterations[k]);
+          n.setup_seconds = setup.at(k);
+          n.solve_seconds = solve.at(k);
+          for (std::size_t i = 0; i < n_residuals.at(k); ++i)
+            n.residuals.push_back(residuals.at(r++));
+          for (std::size_t i = 0; i < n_linear.at(k); ++i)
+            n.linear_iterations.push_back(static_cast<int>(linear.at(l++)));
+          result.newton.push_back(std::move(n));
+        }
+      log.restore(c.text("driver/run_log"));
+      return d;
+    }
   } // namespace
 
   StepsResult run_steps(SteppedProblem& problem, const StepSettings& settings, NewtonSolver& newton, JsonLinesLog& log,
@@ -33,6 +106,24 @@ namespace physics
     StepsResult result;
     double      time = 0, step = settings.step;
     int         cuts_in_a_row = 0, converged_in_a_row = 0, attempt = 0;
+    const std::string kind = problem.checkpoint_kind();
+    if (kind.empty() && (settings.checkpoint_interval > 0 || !settings.resume_from.empty()))
+      throw std::invalid_argument("parameter 'Interval' / --restart (Restart): this problem class does not write "
+                                  "checkpoints; set 'Interval' to 0 and drop --restart");
+    if (!settings.resume_from.empty())
+      {
+        const std::string directory  = CheckpointSeries::resolve(settings.resume_from);
+        const Checkpoint  checkpoint = Checkpoint::read(directory, kind, newton.communicator());
+        problem.load_state(checkpoint);
+        const DriverState d = load_driver(checkpoint, result, newton, log);
+        time               = d.time;
+        step               = d.step;
+        converged_in_a_row = d.converged_in_a_row;
+        JsonLinesLog::Line line;
+        line.add("event", std::string("restarted")).add("from", directory).add("load_step", result.steps).add("time", time);
+        log.write(line);
+        console << "Restarted from " << directory << " after step " << result.steps << " (t = " << time << ")\n";
+      }
     newton.print_header(problem);
     while (settings.end_time - time > end_tolerance * settings.step)
       {
@@ -69,6 +160,17 @@ namespace physics
                 log.write(line);
                 step               = grown;
                 converged_in_a_row = 0;
+              }
+            if (settings.checkpoint_interval > 0 && number % settings.checkpoint_interval == 0 && !last)
+              {
+                Checkpoint checkpoint(kind);
+                problem.save_state(checkpoint);
+                save_driver(checkpoint, {time, step, converged_in_a_row}, result, newton, log);
+                const std::string directory =
+                    CheckpointSeries(settings.checkpoint_root).write(checkpoint, number, newton.communicator());
+                JsonLinesLog::Line line;
+                line.add("event", std::string("checkpoint")).add("load_step", number).add("directory", directory);
+                log.write(line);
               }
             continue;
           }

@@ -10,11 +10,17 @@
 //     failed:    problem.reset_step();  dt = dt / 2   (the log says why; at most `max_cuts`
 //                halvings in a row and never below `minimum_step`, else the run stops unconverged)
 //
+// Checkpoints (checkpoint.h): every `checkpoint_interval` converged steps the problem's state,
+// the driver's counters and the run log so far go to checkpoint_root/step_NNNNNN; a run given
+// `resume_from` starts from there instead of t = 0, with the log as it was at that step plus a
+// "restarted" event, and continues exactly as the uninterrupted run did.
+//
 // A step cut is the remedy for everything Newton cannot cure from where it stands: a too large
 // load increment (divergence, an inverted element), an active-set change that makes a linear
 // solve fail, a time step too coarse for an impact.
 #pragma once
 
+#include "common/checkpoint.h"
 #include "common/newton_solver.h"
 
 #include <string>
@@ -29,6 +35,9 @@ namespace physics
     double minimum_step = 0.0;  ///< no cut below this (absolute)
     int    max_cuts     = 5;    ///< halvings in a row of one step
     int    growth_after = 2;    ///< converged steps in a row before a cut step is doubled (0: never)
+    int         checkpoint_interval = 0; ///< converged steps between checkpoints (0: none)
+    std::string checkpoint_root;         ///< where they go (the output directory's restart/)
+    std::string resume_from;             ///< a checkpoint (or a checkpoint_root) to resume from
   };
 
   /// A NonlinearProblem that is advanced in load/time steps.
@@ -45,6 +54,15 @@ namespace physics
     virtual void end_step(int number, double time) = 0;
     /// Output of a converged step; `last` marks the final one.
     virtual void write_output(int number, double time, bool last) = 0;
+
+    /// Checkpoint/restart: what problem this is (class, dimension, sizes; a restart must find
+    /// the same), or "" for a class that cannot restart.
+    virtual std::string checkpoint_kind() const { return ""; }
+    /// The state after a converged step (with end_step and write_output done): everything
+    /// begin_step of the next step and the run's output and summary depend on.
+    virtual void save_state(Checkpoint& /*checkpoint*/) const {}
+    /// Back to the state save_state stored (on a freshly set-up problem).
+    virtual void load_state(const Checkpoint& /*checkpoint*/) {}
   };
 
   struct StepsResult

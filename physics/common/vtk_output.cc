@@ -21,6 +21,12 @@ namespace physics
   {
   }
 
+  void VtkSeries::restore(const std::string& entries)
+  {
+    if (dealii::Utilities::MPI::this_mpi_process(comm_) == 0)
+      pvd_.restore(entries);
+  }
+
   template <int dim, int spacedim>
   void VtkSeries::write(const DataOut<dim, spacedim>& out, int step, double time)
   {

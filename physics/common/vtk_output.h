@@ -27,6 +27,11 @@ namespace physics
     template <int dim, int spacedim>
     void write(const dealii::DataOut<dim, spacedim>& out, int step, double time);
 
+    /// The series' entries so far and back (checkpoint/restart: a resumed run's .pvd lists the
+    /// records written before the checkpoint, then its own).
+    std::string entries() const { return pvd_.entries(); }
+    void        restore(const std::string& entries);
+
   private:
     std::string directory_, base_;
     MPI_Comm    comm_;

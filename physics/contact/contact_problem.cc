@@ -68,6 +68,9 @@ namespace physics::contact
       void        reset_step() override;
       void        end_step(int number, double time) override;
       void        write_output(int number, double time, bool last) override;
+      std::string checkpoint_kind() const override;
+      void        save_state(Checkpoint& checkpoint) const override;
+      void        load_state(const Checkpoint& checkpoint) override;
 
     private:
       void setup();
@@ -646,6 +649,64 @@ namespace physics::contact
     }
 
     template <int dim>
+    std::string ContactProblem<dim>::checkpoint_kind() const
+    {
+      std::ostringstream kind;
+      kind << "contact " << dim << "D (" << tria_.n_global_active_cells() << " cells, " << dof_handler_.n_dofs()
+           << " displacement DOFs, " << contact_->n_global_slave_nodes() << " slave nodes, "
+           << (dynamics_ ? "dynamic" : "quasi-static") << ")";
+      return kind.str();
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::save_state(Checkpoint& c) const
+    {
+      c.store("contact/u", u_);
+      c.store("contact/lambda", lambda_);
+      if (dynamics_)
+        dynamics_->save(c, "contact/dynamics");
+      // This rank's share of the contact force at t_n (the generalized midpoint needs it).
+      std::vector<double> rows, values;
+      for (const auto& [row, value] : contact_force_old_)
+        {
+          rows.push_back(static_cast<double>(row));
+          values.push_back(value);
+        }
+      c.set_local("contact/force_rows", rows);
+      c.set_local("contact/force_values", values);
+      c.set("contact/max_penetration", summary_.max_penetration);
+      c.set("contact/active_set_sizes", std::vector<double>(summary_.active_set_sizes.begin(), summary_.active_set_sizes.end()));
+      c.set("contact/energy_time", summary_.time);
+      c.set("contact/kinetic_energy", summary_.kinetic_energy);
+      c.set("contact/strain_energy", summary_.strain_energy);
+      c.set_text("contact/vtk_series", vtk_->entries());
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::load_state(const Checkpoint& c)
+    {
+      c.restore("contact/u", u_);
+      c.restore("contact/lambda", lambda_);
+      if (dynamics_)
+        dynamics_->load(c, "contact/dynamics");
+      const auto& rows   = c.local("contact/force_rows");
+      const auto& values = c.local("contact/force_values");
+      contact_force_old_.clear();
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        contact_force_old_[static_cast<GlobalIndex>(rows[k])] = values.at(k);
+      summary_.max_penetration = c.number("contact/max_penetration");
+      const auto& sizes        = c.numbers("contact/active_set_sizes");
+      summary_.active_set_sizes.assign(sizes.begin(), sizes.end());
+      summary_.time           = c.numbers("contact/energy_time");
+      summary_.kinetic_energy = c.numbers("contact/kinetic_energy");
+      summary_.strain_energy  = c.numbers("contact/strain_energy");
+      vtk_->restore(c.text("contact/vtk_series"));
+      u_ghosted_      = u_;
+      lambda_ghosted_ = lambda_;
+      contact_->continue_active_set();
+    }
+
+    template <int dim>
     std::pair<double, int> ContactProblem<dim>::deepest_local_penetration() const
     {
       const auto&            state = contact_->state();
@@ -711,8 +772,8 @@ namespace physics::contact
       newton_settings.export_directory = p_.output_directory + "/systems";
       NewtonSolver newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_, timer_,
                           comm_);
-      const StepSettings steps = dynamics_ ? p_.solver.step_settings(p_.load_steps * p_.time_step, p_.time_step)
-                                           : p_.solver.step_settings(1.0, 1.0 / p_.load_steps);
+      const StepSettings steps = dynamics_ ? p_.solver.step_settings(p_.load_steps * p_.time_step, p_.time_step, p_.output_directory)
+                                           : p_.solver.step_settings(1.0, 1.0 / p_.load_steps, p_.output_directory);
       const StepsResult result = run_steps(*this, steps, newton, log_, pcout_);
 
       summary_.record(result);

@@ -182,6 +182,9 @@ namespace physics::contact
     /// The next evaluation takes the geometric active-set guess again (as the first one does):
     /// after an evaluation that only looked at the geometry (the initial overlap check).
     void restart_active_set() { first_evaluation_ = true; }
+    /// The next evaluation takes the active set from the multipliers and gaps (as every later
+    /// one does): a run resumed from a checkpoint, whose multipliers are those of a solve.
+    void continue_active_set() { first_evaluation_ = false; }
     /// Multiplier component c of slave node j in assembly numbering: n_dofs + the node's
     /// displacement DOF c (the multiplier lives with its node).
     global_dof_index multiplier_index(unsigned int j, unsigned int c) const { return n_dofs_ + slave_nodes_[j].dofs[c]; }

@@ -240,7 +240,7 @@ namespace physics::fsi
     NewtonSolver newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_,
                         timer_, comm_);
     const StepsResult result =
-        run_steps(*this, p_.solver.step_settings(p_.end_time, p_.time_step), newton, log_, pcout_);
+        run_steps(*this, p_.solver.step_settings(p_.end_time, p_.time_step, p_.output_directory), newton, log_, pcout_);
     FsiRunSummary summary;
     summary.structure_dofs = n_solid_;
     summary.fluid_dofs     = n_fluid_;
