@@ -1,5 +1,7 @@
 #include "contact/contact_problem.h"
 
+#include "contact/contact_problem_class.h"
+
 #include "common/distributed_mesh.h"
 #include "common/newton_solver.h"
 #include "common/row_exchange.h"
@@ -20,7 +22,6 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
-#include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
@@ -46,116 +47,10 @@ namespace physics::contact
       z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
       return z ^ (z >> 31);
     }
+  } // namespace
 
-    template <int dim>
-    class ContactProblem : public SteppedProblem
-    {
-    public:
-      ContactProblem(const ContactParameters& p, MPI_Comm comm);
-      ContactRunSummary run();
-
-      // The nonlinear problem of one load/time step (common/newton_solver.h, step_driver.h).
-      std::vector<std::string> field_names() const override { return ContactParameters::residual_fields(); }
-      Linearization            linearize(int iteration) override;
-      /// Semi-smooth Newton: an iterate counts only when its evaluation left the active set as it was.
-      bool        may_converge() const override { return !active_set_changed_; }
-      std::uint64_t state_signature() const override { return active_set_signature_; }
-      void        update(const multigrid::MultiVector& dx) override;
-      void        set_update_length(double step_length) override;
-      void        describe(JsonLinesLog::Line& line, std::ostream& console) const override;
-      std::string console_header() const override { return "   active  changed"; }
-      void        begin_step(double time, double step) override;
-      void        reset_step() override;
-      void        end_step(int number, double time) override;
-      void        write_output(int number, double time, bool last) override;
-      std::string checkpoint_kind() const override;
-      void        save_state(Checkpoint& checkpoint) const override;
-      void        load_state(const Checkpoint& checkpoint) override;
-
-    private:
-      void setup();
-      void set_prescribed_values(double load_factor);
-      /// Constraints of a load step's first Newton update: the homogeneous ones, with the jump
-      /// of the prescribed values as inhomogeneity (so the increment is spread by the solve
-      /// instead of being imposed on one layer of elements).
-      AffineConstraints<double> increment_constraints() const;
-      /// The constrained rows of the first update only say du_i = increment_i and their columns
-      /// were eliminated by the lifting: they are taken out of the Krylov solve (zero right-hand
-      /// side there) and set to their targets in update(). AMG hierarchies see the same operator,
-      /// but no longer a right-hand side concentrated on decoupled rows.
-      void lift_prescribed_rows();
-      std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
-      /// The multipliers of this rank's slave nodes (dim each) from the ghosted multiplier vector.
-      std::vector<double> slave_multipliers();
-      /// Active-set bookkeeping of the last evaluation against the previous one of this step.
-      void count_active_set();
-      void final_state(ContactRunSummary& summary);
-      /// After a converged step: the largest penetration (log, summary) and the self-contact check.
-      void check_converged_contact(int number, double time);
-      /// Setup: a mesh whose bodies overlap in the reference configuration is bad input.
-      void check_initial_overlap();
-      /// The largest -g~_j / w_j of the last evaluation over this rank's owned covered slave nodes
-      /// and that node (-inf and -1 if it owns none).
-      std::pair<double, int> deepest_local_penetration() const;
-
-      // Dynamics (generalized-alpha; see common/solid_dynamics.h).
-      /// Mass matrix, initial velocity of the slave body, initial acceleration.
-      void setup_dynamics();
-      /// The energies of the current state (a log line and the summary).
-      void log_energies(int step, double time);
-      /// Contact forces at the generalized midpoint: (1 - af) (this step) + af (previous step).
-      void weight_contact_forces(ContactContribution& contribution);
-
-      const ContactParameters& p_;
-      MPI_Comm                 comm_;
-      const unsigned int       rank_;
-      ConditionalOStream       pcout_;
-      TimerOutput              timer_;
-
-      parallel::fullydistributed::Triangulation<dim> tria_;
-      FESystem<dim>                        fe_;
-      DoFHandler<dim>                      dof_handler_;
-      IndexSet                             owned_, relevant_, ghosts_;
-      std::vector<IndexSet>                owned_per_rank_;
-      AffineConstraints<double>            constraints_;
-      DynamicSparsityPattern               structural_pattern_;
-      SolidModel<dim>                      model_;
-      std::map<types::global_dof_index, double> prescribed_; ///< loaded-face values this step
-      std::unique_ptr<MortarContact<dim>>  contact_;
-      std::vector<OwnedNode<dim>>          owned_nodes_;
-
-      std::unique_ptr<SolidDynamics<dim>> dynamics_; ///< null: quasi-static
-      /// This rank's share of the contact force D^T lambda - M^T lambda at t_n and at the latest
-      /// evaluation.
-      std::map<GlobalIndex, double> contact_force_old_, contact_force_new_;
-
-      TrilinosWrappers::MPI::Vector u_, u_ghosted_;
-      /// Multipliers in the displacement layout: lambda_j at slave node j's DOFs (owned rows; the
-      /// ghosted copy reaches the slave nodes of the ghost faces).
-      TrilinosWrappers::MPI::Vector lambda_, lambda_ghosted_;
-      JsonLinesLog                  log_;
-      std::unique_ptr<VtkSeries>    vtk_;
-      ContactRunSummary             summary_;
-
-      // The step in progress
-      double                        time_ = 0, load_factor_ = 0;
-      TrilinosWrappers::MPI::Vector u_begin_;      ///< state at the step's start (reset_step)
-      TrilinosWrappers::MPI::Vector lambda_begin_;
-      std::vector<bool>             previous_active_; ///< of the previous evaluation in this step
-      /// No evaluation yet in this step (a rank may hold no slave node: not `previous_active_`'s size).
-      bool                          first_in_step_ = true;
-      int                           n_active_ = 0, n_changed_ = 0;
-      bool                          active_set_changed_ = true;
-      std::uint64_t                 active_set_signature_ = 0; ///< of the last evaluation (see count_active_set)
-      ContactLinearSystem           linear_;      ///< the last linearization
-      std::map<std::size_t, double> lifted_;      ///< local row -> prescribed target (first update)
-      /// The last update's Newton direction without the prescribed rows, and its applied length
-      /// (line search).
-      TrilinosWrappers::MPI::Vector du_direction_;
-      TrilinosWrappers::MPI::Vector dlambda_direction_;
-      double                        update_length_ = 1;
-    };
-
+  namespace internal
+  {
     template <int dim>
     ContactProblem<dim>::ContactProblem(const ContactParameters& p, MPI_Comm comm)
         : p_(p)
@@ -175,7 +70,26 @@ namespace physics::contact
       TimerOutput::Scope scope(timer_, "setup");
       prepare_output_directory(p_.output_directory, comm_);
       read_distributed_mesh(p_.mesh_file, p_.gmsh_refinement, p_.global_refinements, p_.output_directory, tria_);
+      check_boundary_ids();
 
+      dof_handler_.distribute_dofs(fe_);
+      owned_ = dof_handler_.locally_owned_dofs();
+      DoFTools::extract_locally_relevant_dofs(dof_handler_, relevant_);
+      owned_per_rank_ = Utilities::MPI::all_gather(comm_, owned_);
+
+      setup_contact();
+      collect_owned_nodes();
+      setup_constraints();
+      setup_model();
+      check_initial_overlap();
+      if (p_.dynamic())
+        setup_dynamics();
+      setup_output();
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::check_boundary_ids()
+    {
       // Every id the parameters name must exist in the mesh (on some rank).
       std::set<types::boundary_id> ids;
       for (const auto& cell : tria_.active_cell_iterators())
@@ -205,12 +119,11 @@ namespace physics::contact
         require(p_.loaded_id, "Loaded boundary id");
       for (std::size_t i = 0; i < p_.symmetry.size(); i += 2)
         require(p_.symmetry[i], "Symmetry");
+    }
 
-      dof_handler_.distribute_dofs(fe_);
-      owned_ = dof_handler_.locally_owned_dofs();
-      DoFTools::extract_locally_relevant_dofs(dof_handler_, relevant_);
-      owned_per_rank_ = Utilities::MPI::all_gather(comm_, owned_);
-
+    template <int dim>
+    void ContactProblem<dim>::setup_contact()
+    {
       ContactSettings settings;
       settings.slave_boundary       = p_.slave_id;
       settings.master_boundary      = p_.master_id;
@@ -231,7 +144,11 @@ namespace physics::contact
         s.add_indices(surface.begin(), surface.end());
         ghosts_.add_indices(s);
       }
+    }
 
+    template <int dim>
+    std::set<types::material_id> ContactProblem<dim>::slave_body_materials() const
+    {
       // Two-body mode: the material ids next to the slave faces are the slave body (label 1), the
       // rest the master body (label 0). Multi-body mode: every material id is a body (its label).
       std::set<types::material_id> slave_materials, master_materials;
@@ -253,6 +170,13 @@ namespace physics::contact
         if (!p_.multi_body() && master_materials.count(m))
           throw std::invalid_argument(p_.mesh_file + ": slave and master faces lie on the same body (material id " +
                                       std::to_string(m) + "); expected two bodies with their own physical volumes");
+      return slave_materials;
+    }
+
+    template <int dim>
+    void ContactProblem<dim>::collect_owned_nodes()
+    {
+      const std::set<types::material_id> slave_materials = slave_body_materials();
 
       // Locally owned nodes with body and surface membership.
       std::map<GlobalIndex, int> slave_of_dof;
@@ -300,7 +224,11 @@ namespace physics::contact
           }
       for (auto& [dof, node] : nodes)
         owned_nodes_.push_back(node);
+    }
 
+    template <int dim>
+    void ContactProblem<dim>::setup_constraints()
+    {
       // Homogeneous constraints of the Newton update: clamped, loaded (displacement control),
       // symmetry planes (one component).
       // Known for the surface DOFs too: contact entries in constrained rows and columns are
@@ -320,7 +248,11 @@ namespace physics::contact
       structural_pattern_.reinit(relevant_.size(), relevant_.size(), relevant_);
       DoFTools::make_sparsity_pattern(dof_handler_, structural_pattern_, constraints_, false);
       SparsityTools::distribute_sparsity_pattern(structural_pattern_, owned_, comm_, relevant_);
+    }
 
+    template <int dim>
+    void ContactProblem<dim>::setup_model()
+    {
       const auto lame    = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
       std::shared_ptr<const HyperelasticMaterial<dim>> law = make_material<dim>(p_.law, lame);
       for (const auto& cell : tria_.active_cell_iterators())
@@ -329,29 +261,6 @@ namespace physics::contact
       u_ghosted_.reinit(owned_, ghosts_, comm_);
       lambda_.reinit(owned_, comm_);
       lambda_ghosted_.reinit(owned_, relevant_, comm_);
-
-      check_initial_overlap();
-      if (p_.dynamic())
-        setup_dynamics();
-
-      summary_.slave_nodes          = contact_->n_global_slave_nodes();
-      summary_.max_slave_nodes_held =
-          static_cast<long long>(Utilities::MPI::max(static_cast<double>(contact_->n_slave_nodes()), comm_));
-      if (rank_ == 0)
-        log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
-      vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solution", comm_);
-      pcout_ << "contact_blocks: " << dim << "D, " << tria_.n_global_active_cells() << " cells (at most "
-             << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), "
-             << dof_handler_.n_dofs() << " displacement DOFs, " << dim * contact_->n_global_slave_nodes()
-             << " multipliers (" << (p_.dual ? "dual" : "standard") << "; at most " << summary_.max_slave_nodes_held
-             << " of " << summary_.slave_nodes << " slave nodes held on a rank), " << Utilities::MPI::n_mpi_processes(comm_)
-             << " ranks, preset " << p_.solver.preset;
-      if (dynamics_)
-        pcout_ << ", generalized-alpha (rho_inf " << p_.spectral_radius << ", dt " << p_.time_step << " s)";
-      pcout_ << "\n";
-      pcout_ << "contact: " << contact_->describe_pairs() << "\n";
-      if (p_.multi_body() && dim == 3)
-        pcout_ << "contact: self-contact is not handled and not detected in 3D\n";
     }
 
     template <int dim>
@@ -389,20 +298,6 @@ namespace physics::contact
         if (row < dof_handler_.n_dofs())
           for (auto& [column, value] : entries)
             value *= w;
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::log_energies(int step, double time)
-    {
-      u_ghosted_           = u_;
-      const double kinetic = dynamics_->kinetic_energy(), strain = strain_energy(dof_handler_, model_, u_ghosted_);
-      summary_.time.push_back(time);
-      summary_.kinetic_energy.push_back(kinetic);
-      summary_.strain_energy.push_back(strain);
-      JsonLinesLog::Line line;
-      line.add("time_step", step).add("time", time).add("kinetic_energy", kinetic).add("strain_energy", strain)
-          .add("total_energy", kinetic + strain);
-      log_.write(line);
     }
 
     template <int dim>
@@ -631,13 +526,6 @@ namespace physics::contact
     }
 
     template <int dim>
-    void ContactProblem<dim>::describe(JsonLinesLog::Line& line, std::ostream& console) const
-    {
-      line.add("load_factor", load_factor_).add("active", n_active_).add("active_changed", n_changed_);
-      console << std::setw(9) << n_active_ << std::setw(9) << n_changed_;
-    }
-
-    template <int dim>
     void ContactProblem<dim>::end_step(int number, double time)
     {
       check_converged_contact(number, time);
@@ -646,118 +534,6 @@ namespace physics::contact
       dynamics_->end_step(u_);
       contact_force_old_ = contact_force_new_; // the converged state's (last evaluation)
       log_energies(number, time);
-    }
-
-    template <int dim>
-    std::string ContactProblem<dim>::checkpoint_kind() const
-    {
-      std::ostringstream kind;
-      kind << "contact " << dim << "D (" << tria_.n_global_active_cells() << " cells, " << dof_handler_.n_dofs()
-           << " displacement DOFs, " << contact_->n_global_slave_nodes() << " slave nodes, "
-           << (dynamics_ ? "dynamic" : "quasi-static") << ")";
-      return kind.str();
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::save_state(Checkpoint& c) const
-    {
-      c.store("contact/u", u_);
-      c.store("contact/lambda", lambda_);
-      if (dynamics_)
-        dynamics_->save(c, "contact/dynamics");
-      // This rank's share of the contact force at t_n (the generalized midpoint needs it).
-      std::vector<double> rows, values;
-      for (const auto& [row, value] : contact_force_old_)
-        {
-          rows.push_back(static_cast<double>(row));
-          values.push_back(value);
-        }
-      c.set_local("contact/force_rows", rows);
-      c.set_local("contact/force_values", values);
-      c.set("contact/max_penetration", summary_.max_penetration);
-      c.set("contact/active_set_sizes", std::vector<double>(summary_.active_set_sizes.begin(), summary_.active_set_sizes.end()));
-      c.set("contact/energy_time", summary_.time);
-      c.set("contact/kinetic_energy", summary_.kinetic_energy);
-      c.set("contact/strain_energy", summary_.strain_energy);
-      c.set_text("contact/vtk_series", vtk_->entries());
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::load_state(const Checkpoint& c)
-    {
-      c.restore("contact/u", u_);
-      c.restore("contact/lambda", lambda_);
-      if (dynamics_)
-        dynamics_->load(c, "contact/dynamics");
-      const auto& rows   = c.local("contact/force_rows");
-      const auto& values = c.local("contact/force_values");
-      contact_force_old_.clear();
-      for (std::size_t k = 0; k < rows.size(); ++k)
-        contact_force_old_[static_cast<GlobalIndex>(rows[k])] = values.at(k);
-      summary_.max_penetration = c.number("contact/max_penetration");
-      const auto& sizes        = c.numbers("contact/active_set_sizes");
-      summary_.active_set_sizes.assign(sizes.begin(), sizes.end());
-      summary_.time           = c.numbers("contact/energy_time");
-      summary_.kinetic_energy = c.numbers("contact/kinetic_energy");
-      summary_.strain_energy  = c.numbers("contact/strain_energy");
-      vtk_->restore(c.text("contact/vtk_series"));
-      u_ghosted_      = u_;
-      lambda_ghosted_ = lambda_;
-      contact_->continue_active_set();
-    }
-
-    template <int dim>
-    std::pair<double, int> ContactProblem<dim>::deepest_local_penetration() const
-    {
-      const auto&            state = contact_->state();
-      std::pair<double, int> deepest(-std::numeric_limits<double>::infinity(), -1);
-      for (unsigned int j = 0; j < state.weight.size(); ++j)
-        if (contact_->owns_slave_node(j) && state.covered[j] && -state.weighted_gap[j] / state.weight[j] > deepest.first)
-          deepest = {-state.weighted_gap[j] / state.weight[j], static_cast<int>(j)};
-      return deepest;
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::check_initial_overlap()
-    {
-      // One evaluation in the reference configuration (u = 0, lambda = 0): a slave node inside a
-      // master body by more than round-off of the meshed geometry is a mesh that starts with
-      // bodies overlapping, which the contact constraints would push apart in the first step
-      // with an unphysical impulse. The active-set guess of the first real evaluation stays.
-      ContactContribution unused;
-      contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), slave_multipliers(),
-                         [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, unused);
-      contact_->restart_active_set();
-      const double tolerance     = 1e-3 * contact_->minimal_slave_face_size();
-      const auto [deepest, node] = deepest_local_penetration();
-      std::ostringstream where;
-      if (node >= 0 && deepest > tolerance)
-        where << "mesh file '" << p_.mesh_file << "': bodies overlap at the start: the slave node at ("
-              << contact_->slave_nodes()[node].reference << ") lies " << deepest
-              << " inside the master surface (allowed: 1e-3 of the smallest slave face, " << tolerance
-              << "); move the bodies apart";
-      throw_if_any_rank_failed(where.str(), comm_);
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::check_converged_contact(int number, double time)
-    {
-      // The last evaluation is the converged state's: its largest penetration, and (2D)
-      // self-contact, which the mortar pairs do not handle: stop rather than let it pass.
-      const double penetration = Utilities::MPI::max(std::max(0.0, deepest_local_penetration().first), comm_);
-      summary_.max_penetration = std::max(summary_.max_penetration, penetration);
-      JsonLinesLog::Line line;
-      line.add("converged_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
-      log_.write(line);
-      u_ghosted_             = u_;
-      const std::string self = contact_->detect_self_contact(positions(contact_->slave_nodes()),
-                                                             positions(contact_->master_nodes()),
-                                                             positions(contact_->watch_nodes()));
-      if (!self.empty())
-        throw std::runtime_error("step " + std::to_string(number) + " (t = " + std::to_string(time) +
-                                 "): self-contact detected: " + self +
-                                 "; self-contact is not handled (a body is never paired with itself), the run "
-                                 "stops instead of letting the body penetrate itself");
     }
 
     template <int dim>
@@ -784,117 +560,14 @@ namespace physics::contact
       return summary_;
     }
 
-    template <int dim>
-    void ContactProblem<dim>::final_state(ContactRunSummary& summary)
-    {
-      // The slave nodes' final state, each node from its owner, gathered on rank 0 (for the
-      // summary and the CSV file only) in the order of their reference positions, which does not
-      // depend on the partition.
-      u_ghosted_ = u_;
-      lambda_ghosted_ = lambda_;
-      const auto& state = contact_->state();
-      const auto  xs    = positions(contact_->slave_nodes());
-      // Per node, 9 numbers: reference (3), position (3), pressure, weight, active.
-      std::vector<double> mine;
-      for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
-        if (contact_->owns_slave_node(j))
-          {
-            std::array<double, 9> row{};
-            double                ln = 0;
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                row[d]     = contact_->slave_nodes()[j].reference[d];
-                row[3 + d] = xs[j][d];
-                ln += contact_->normal(j)[d] * lambda_ghosted_[contact_->slave_nodes()[j].dofs[d]];
-              }
-            row[6] = ln;
-            row[7] = state.weight[j];
-            row[8] = state.active[j] ? 1 : 0;
-            mine.insert(mine.end(), row.begin(), row.end());
-          }
-      auto all = Utilities::MPI::gather(comm_, mine, 0);
-      if (rank_ == 0)
-        {
-          std::vector<std::array<double, 9>> nodes;
-          for (const auto& part : all)
-            for (std::size_t i = 0; i + 9 <= part.size(); i += 9)
-              {
-                std::array<double, 9> row;
-                std::copy(part.begin() + i, part.begin() + i + 9, row.begin());
-                nodes.push_back(row);
-              }
-          std::sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
-            return std::lexicographical_compare(a.begin(), a.begin() + 3, b.begin(), b.begin() + 3);
-          });
-          for (const auto& row : nodes)
-            {
-              summary.slave_positions.push_back({{row[3], row[4], row[5]}});
-              summary.normal_pressure.push_back(row[6]);
-              summary.weight.push_back(row[7]);
-              summary.active.push_back(row[8] != 0);
-            }
-        }
-      summary.max_displacement = u_.linfty_norm();
-      summary.displacement_l2  = u_.l2_norm();
-    }
-
-    template <int dim>
-    void ContactProblem<dim>::write_output(int step, double time, bool last)
-    {
-      if (!p_.vtk_due(step, last))
-        return;
-      TimerOutput::Scope scope(timer_, "output");
-      u_ghosted_ = u_;
-      // Nodal contact fields on the slave nodes, stored in vectors of the displacement layout:
-      // the multiplier vector, and (pressure, active flag, normalized gap) as separate scalars.
-      TrilinosWrappers::MPI::Vector fields(owned_, comm_);
-      const auto&                   state = contact_->state();
-      for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
-        {
-          const auto& node = contact_->slave_nodes()[j];
-          if (!contact_->owns_slave_node(j))
-            continue;
-          fields[node.dofs[0]] = state.normal_pressure[j];
-          fields[node.dofs[1]] = state.active[j] ? 1.0 : 0.0;
-          if (dim == 3)
-            fields[node.dofs[dim - 1]] = state.weight[j] > 0 ? state.weighted_gap[j] / state.weight[j] : 0.0;
-        }
-      fields.compress(VectorOperation::insert);
-      TrilinosWrappers::MPI::Vector fields_g(owned_, relevant_, comm_);
-      lambda_ghosted_ = lambda_;
-      fields_g        = fields;
-
-      DataOut<dim> out;
-      out.attach_dof_handler(dof_handler_);
-      SolidOutputFields<dim> solid;
-      solid.attach(out, dof_handler_, model_, u_ghosted_);
-      const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector_field(
-          dim, DataComponentInterpretation::component_is_part_of_vector);
-      TrilinosWrappers::MPI::Vector velocity;
-      if (dynamics_)
-        {
-          velocity.reinit(owned_, relevant_, comm_);
-          velocity = dynamics_->velocity();
-          out.add_data_vector(velocity, std::vector<std::string>(dim, "velocity"), DataOut<dim>::type_dof_data,
-                              vector_field);
-        }
-      out.add_data_vector(lambda_ghosted_, std::vector<std::string>(dim, "contact_multiplier"),
-                          DataOut<dim>::type_dof_data, vector_field);
-      std::vector<std::string> names = {"contact_pressure", "active"};
-      if (dim == 3)
-        names.push_back("normal_gap");
-      out.add_data_vector(fields_g, names, DataOut<dim>::type_dof_data,
-                          std::vector<DataComponentInterpretation::DataComponentInterpretation>(
-                              dim, DataComponentInterpretation::component_is_scalar));
-      out.build_patches();
-      vtk_->write(out, step, time);
-    }
-  } // namespace
+    template class ContactProblem<2>;
+    template class ContactProblem<3>;
+  } // namespace internal
 
   ContactRunSummary run_contact(const ContactParameters& parameters, MPI_Comm comm)
   {
     if (parameters.dimension == 2)
-      return ContactProblem<2>(parameters, comm).run();
-    return ContactProblem<3>(parameters, comm).run();
+      return internal::ContactProblem<2>(parameters, comm).run();
+    return internal::ContactProblem<3>(parameters, comm).run();
   }
 } // namespace physics::contact
