@@ -71,7 +71,8 @@ namespace physics
     Vector<double>                       cell_residual(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<Tensor<2, dim>>          F, grad_N(n);
-    std::vector<Tensor<1, dim>>          u_q;
+    std::vector<SymmetricTensor<2, dim>> dE(n);
+    std::vector<Tensor<1, dim>>          u_q, N(n);
 
     // An inverted element on one rank must stop the assembly on every rank at the same point
     // (before the collective compress), with the same message: the Newton solver then cuts the step
@@ -92,24 +93,26 @@ namespace physics
             for (unsigned int q = 0; q < quadrature.size(); ++q)
               {
                 const auto           st  = material.stress_and_tangent(F[q]);
-                const Tensor<2, dim> P   = F[q] * Tensor<2, dim>(st.S);
+                const Tensor<2, dim> S(st.S);
+                const Tensor<2, dim> P   = F[q] * S;
                 const double         JxW = fe_values.JxW(q);
+                // Per shape function once (not per pair): grad N_j and dE_j = sym(F^T grad N_j).
                 for (unsigned int i = 0; i < n; ++i)
-                  grad_N[i] = fe_values[displacement].gradient(i, q);
+                  {
+                    grad_N[i] = fe_values[displacement].gradient(i, q);
+                    dE[i]     = symmetrize(transpose(F[q]) * grad_N[i]);
+                  }
                 for (unsigned int i = 0; i < n; ++i)
                   {
                     cell_residual(i) += scalar_product(P, grad_N[i]) * JxW;
                     if (!tangent)
                       continue;
-                    // K_ij = (grad N_i S) : grad N_j + sym(F^T grad N_i) : CC : sym(F^T grad N_j)
-                    const SymmetricTensor<2, dim> dE_i = symmetrize(transpose(F[q]) * grad_N[i]);
-                    const SymmetricTensor<2, dim> dS_i = st.CC * dE_i;
-                    for (unsigned int j = 0; j < n; ++j)
-                      {
-                        const double geometric = scalar_product(grad_N[i] * Tensor<2, dim>(st.S), grad_N[j]);
-                        const double mat       = dS_i * symmetrize(transpose(F[q]) * grad_N[j]);
-                        cell_matrix(i, j) += (geometric + mat) * JxW;
-                      }
+                    // K_ij = (grad N_i S) : grad N_j + dE_i : CC : dE_j, symmetric: the upper
+                    // triangle here, the lower one mirrored after the cell.
+                    const SymmetricTensor<2, dim> dS_i = st.CC * dE[i];
+                    const Tensor<2, dim>          gS_i = grad_N[i] * S;
+                    for (unsigned int j = i; j < n; ++j)
+                      cell_matrix(i, j) += (scalar_product(gS_i, grad_N[j]) + dS_i * dE[j]) * JxW;
                   }
               }
             // Dead nominal tractions: subtract int t0 . N_i dA.
@@ -137,15 +140,20 @@ namespace physics
                   {
                     const double m = weights.mass * rho * fe_values.JxW(q);
                     for (unsigned int i = 0; i < n; ++i)
+                      N[i] = fe_values[displacement].value(i, q);
+                    for (unsigned int i = 0; i < n; ++i)
                       {
-                        const Tensor<1, dim> N_i = fe_values[displacement].value(i, q);
-                        cell_residual(i) += m * (N_i * u_q[q]);
+                        cell_residual(i) += m * (N[i] * u_q[q]);
                         if (tangent)
-                          for (unsigned int j = 0; j < n; ++j)
-                            cell_matrix(i, j) += m * (N_i * fe_values[displacement].value(j, q));
+                          for (unsigned int j = i; j < n; ++j) // upper triangle, as above
+                            cell_matrix(i, j) += m * (N[i] * N[j]);
                       }
                   }
               }
+            if (tangent)
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < i; ++j)
+                  cell_matrix(i, j) = cell_matrix(j, i);
             cell->get_dof_indices(dofs);
             if (tangent)
               // true: a constrained row gets (its diagonal x inhomogeneity) in the residual, so that an

@@ -1,0 +1,91 @@
+#!/usr/bin/python3
+"""Runs contact_blocks with the same parameters on several rank counts (default 1 and 2,
+oversubscribed where the machine has fewer cores) and checks that the partition changes nothing
+but round-off and the preconditioner: every run converges the same steps at the same times with
+the same Newton steps and the same number of active contact nodes in every Newton step (from
+run_log.jsonl), its average GMRES iterations per Newton step is within --gmres (relative, default
+10 %) of the first run's, and its final displacement norms (the app's "Displacement norms: l2 L,
+max M" line) agree to --norms (relative, default 1e-8). Prints the figures; exit status 0 if all
+hold, 1 otherwise.
+
+  check_contact_ranks.py --app build/apps/contact_blocks --mpiexec mpirun --prm apps/contact_rings_2d.prm
+                         --out DIR [--ranks 1 2] [--gmres 0.1] [--norms 1e-8] [--set S/E=V]...
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+
+
+def run(args, ranks):
+    out = os.path.join(args.out, f"np{ranks}")
+    command = [args.mpiexec, "-np", str(ranks), "--oversubscribe", args.app, args.prm,
+               "--set", f"Output/Directory={out}", "--set", "Output/VTK=false"]
+    for s in args.set:
+        command += ["--set", s]
+    result = subprocess.run(command, capture_output=True, text=True)
+    norms = re.search(r"Displacement norms: l2 (\S+), max (\S+)", result.stdout)
+    if result.returncode != 0 or not norms or "; converged" not in result.stdout:
+        print(f"the run on {ranks} ranks failed (exit {result.returncode}): {result.stderr[-600:]}")
+        return None
+    newton, steps, gmres = {}, [], []
+    for line in open(os.path.join(out, "run_log.jsonl")):
+        entry = json.loads(line)
+        if "newton" in entry:
+            key = (entry["load_step"], entry.get("attempt", 0))
+            newton.setdefault(key, []).append(entry.get("active"))
+            if "linear_iterations" in entry:
+                gmres.append(entry["linear_iterations"])
+        elif "converged_step" in entry:
+            steps.append((entry["converged_step"], round(entry["time"], 12)))
+    return {"norms": tuple(float(x) for x in norms.groups()), "newton": newton, "steps": steps,
+            "gmres": sum(gmres) / max(len(gmres), 1)}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--app", required=True)
+    parser.add_argument("--mpiexec", required=True)
+    parser.add_argument("--prm", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--gmres", type=float, default=0.1)
+    parser.add_argument("--norms", type=float, default=1e-8)
+    parser.add_argument("--set", action="append", default=[])
+    args = parser.parse_args()
+    runs = {r: run(args, r) for r in args.ranks}
+    if any(v is None for v in runs.values()):
+        return 1
+    first = args.ranks[0]
+    ref = runs[first]
+    failures = []
+    for r in args.ranks:
+        x = runs[r]
+        iterates = sum(len(v) for v in x["newton"].values())
+        print(f"{r} ranks: {len(x['steps'])} steps, {iterates} Newton iterates, GMRES per Newton step "
+              f"{x['gmres']:.2f}, displacement l2 {x['norms'][0]:.15g}, max {x['norms'][1]:.15g}")
+        if r == first:
+            continue
+        if x["steps"] != ref["steps"]:
+            failures.append(f"{r} ranks: other converged steps/times than {first}")
+        if x["newton"] != ref["newton"]:
+            differ = [k for k in sorted(set(x["newton"]) | set(ref["newton"])) if x["newton"].get(k) != ref["newton"].get(k)]
+            failures.append(f"{r} ranks: Newton steps or active sets differ from {first} ranks in steps {differ[:5]}")
+        ratio = x["gmres"] / ref["gmres"] - 1
+        if abs(ratio) > args.gmres:
+            failures.append(f"{r} ranks: GMRES per Newton step {ratio:+.1%} against {first} ranks (allowed {args.gmres:.0%})")
+        for name, a, b in zip(("l2", "max"), ref["norms"], x["norms"]):
+            rel = abs(a - b) / max(abs(a), 1e-300)
+            if rel > args.norms:
+                failures.append(f"{r} ranks: displacement {name} differs by {rel:.2e} (allowed {args.norms:.0e})")
+    for f in failures:
+        print("FAILED:", f)
+    if not failures:
+        print("rank check passed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
