@@ -1,15 +1,16 @@
 #!/usr/bin/python3
-"""Checkpoint/restart of a contact run (Restart/Interval, --restart DIR): runs the app once
-uninterrupted, then once more in another directory, killed with SIGKILL (the whole mpirun) as soon
+"""Checkpoint/restart of a run (Restart/Interval, --restart DIR): runs the app once
+uninterrupted, then once more in another directory, killed with SIGKILL (every process of its session) as soon
 as its log shows a checkpoint of step >= --kill-after, and resumes that run in place with
 --restart OUT/restart. Checks that
   - the killed run's checkpoint directory is complete (`latest` names a directory with the shared
     and every rank's file) and the resumed run says where it restarted;
-  - the resumed run ends with the same displacement norms as the uninterrupted one (the app's
-    "Displacement norms: l2 L, max M" line, relative 1e-10);
+  - the resumed run ends with the same displacement norms as the uninterrupted one (every
+    number of the app's "Displacement norms: ..." line, relative 1e-10);
   - its run log equals the uninterrupted one line by line (every Newton and converged-step line
     and every energy line with all their values; timings, memory and the checkpoint/restarted/
-    timers events left out, step cuts included), and its .pvd lists the same records; with
+    timers events left out, step cuts included), its .pvd series list the same records and its
+    CSV files are the same; with
     --expect-cut-after N the resumed part shows a step cut (a failure injected with
     Linear solver/Injected failures, whose solve count the checkpoint carries).
 Then a checkpoint of this problem given to another problem (--other-prm) must be refused with
@@ -17,14 +18,13 @@ exit status 2 and a one-line message naming the checkpoint. Exit status 0 if all
 
   check_restart.py --app build/apps/contact_blocks --mpiexec mpirun --prm apps/contact_rings_2d.prm
                    --out DIR [--ranks 2] [--kill-after 4] [--other-prm apps/contact_patch_2d.prm]
-                   [--expect-cut-after N] [--set S/E=V]...
+                   [--other-set S/E=V]... [--expect-cut-after N] [--set S/E=V]...
 """
 import argparse
 import json
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import time
@@ -39,8 +39,13 @@ def command(args, out, extra=()):
 
 
 def norms(stdout):
-    m = re.search(r"Displacement norms: l2 (\S+), max (\S+)", stdout)
-    return (float(m.group(1)), float(m.group(2))) if m else None
+    """The numbers of the app's "Displacement norms: ..." line (contact: l2, max; fsi: structure
+    l2, max, ALE l2, fluid l2)."""
+    m = re.search(r"Displacement norms: (.*)", stdout)
+    if not m:
+        return None
+    values = re.findall(r"[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?", re.sub(r"l2", "", m.group(1)))
+    return tuple(float(v) for v in values) or None
 
 
 def log_lines(path):
@@ -59,6 +64,20 @@ def pvd_records(path):
     return re.findall(r'timestep="([^"]+)"[^>]*file="([^"]+)"', open(path).read())
 
 
+def kill_session(process):
+    """SIGKILL to every process of the run's session (mpirun and the ranks it started, which
+    Open MPI may put in process groups of their own), then wait until none is left, so that no
+    rank of the killed run writes into its directory while it is resumed."""
+    subprocess.run(["pkill", "-KILL", "-s", str(process.pid)])
+    process.wait()
+    for _ in range(200):
+        if subprocess.run(["pgrep", "-s", str(process.pid)], capture_output=True).returncode != 0:
+            return
+        subprocess.run(["pkill", "-KILL", "-s", str(process.pid)])
+        time.sleep(0.05)
+    raise RuntimeError(f"processes of session {process.pid} survive SIGKILL")
+
+
 def killed_run(args, out):
     """Starts the run, kills it once a checkpoint of step >= kill_after is logged."""
     log = os.path.join(out, "run_log.jsonl")
@@ -69,12 +88,11 @@ def killed_run(args, out):
         if os.path.exists(log):
             for text in open(log):
                 if '"checkpoint"' in text and json.loads(text).get("load_step", 0) >= args.kill_after:
-                    os.killpg(process.pid, signal.SIGKILL)
-                    process.wait()
+                    kill_session(process)
                     return True
         time.sleep(0.05)
     if process.poll() is None:
-        os.killpg(process.pid, signal.SIGKILL)
+        kill_session(process)
     print(f"the run to be killed ended (exit {process.poll()}) before a checkpoint of step {args.kill_after}")
     return False
 
@@ -88,6 +106,8 @@ def main():
     parser.add_argument("--ranks", type=int, default=2)
     parser.add_argument("--kill-after", type=int, default=4, help="kill after the checkpoint of this step")
     parser.add_argument("--other-prm", help="a parameter file of another problem (the refusal check)")
+    parser.add_argument("--other-set", action="append", default=[],
+                        help="S/E=V for the other problem (e.g. another mesh size of the same file)")
     parser.add_argument("--expect-cut-after", type=int, default=0,
                         help="the resumed log must show a step cut after this step (an injected failure)")
     parser.add_argument("--timeout", type=float, default=600)
@@ -125,19 +145,31 @@ def main():
         print(f"resumed from {restarted.group(1)} after step {restarted.group(2)}")
 
     a, b = norms(reference.stdout), norms(resumed.stdout)
-    for name, x, y in zip(("l2", "max"), a, b):
+    if len(a) != len(b):
+        failures.append(f"the displacement norm lines differ: {a} and {b}")
+    for k, (x, y) in enumerate(zip(a, b)):
         rel = abs(x - y) / max(abs(x), 1e-300)
-        print(f"displacement {name}: uninterrupted {x:.16g}, resumed {y:.16g}, relative difference {rel:.2e}")
+        print(f"displacement norm {k + 1}: uninterrupted {x:.16g}, resumed {y:.16g}, relative difference {rel:.2e}")
         if rel > 1e-10:
-            failures.append(f"displacement {name} differs by {rel:.2e} (allowed 1e-10)")
+            failures.append(f"displacement norm {k + 1} differs by {rel:.2e} (allowed 1e-10)")
 
     ref_lines, res_lines = log_lines(os.path.join(reference_out, "run_log.jsonl")), log_lines(os.path.join(out, "run_log.jsonl"))
     differing = [i for i, (x, y) in enumerate(zip(ref_lines, res_lines)) if x != y]
     print(f"run log: {len(ref_lines)} lines uninterrupted, {len(res_lines)} resumed, {len(differing)} differ")
     if len(ref_lines) != len(res_lines) or differing:
         failures.append(f"the run logs differ (first differing line {differing[:1]})")
-    if pvd_records(os.path.join(reference_out, "solution.pvd")) != pvd_records(os.path.join(out, "solution.pvd")):
-        failures.append("the .pvd series differ")
+    # Every ParaView series and CSV record of the run (contact: solution.pvd, contact_nodes.csv;
+    # fsi: fluid.pvd, structure.pvd, wall_displacement.csv) as the uninterrupted run wrote it.
+    outputs = sorted(f for f in os.listdir(reference_out) if f.endswith((".pvd", ".csv")))
+    for f in outputs:
+        mine = os.path.join(out, f)
+        if not os.path.exists(mine):
+            failures.append(f"the resumed run has no {f}")
+        elif f.endswith(".pvd") and pvd_records(os.path.join(reference_out, f)) != pvd_records(mine):
+            failures.append(f"the series {f} differ")
+        elif f.endswith(".csv") and open(os.path.join(reference_out, f)).read() != open(mine).read():
+            failures.append(f"{f} differs")
+    print(f"outputs compared: {outputs}")
     if args.expect_cut_after:
         cuts = [l for l in res_lines if l.get("event") == "step_cut" and l.get("load_step", 0) > args.expect_cut_after]
         print(f"step cuts after step {args.expect_cut_after} in the resumed log: "
@@ -148,6 +180,8 @@ def main():
     if args.other_prm:
         other = [args.mpiexec, "-np", str(args.ranks), "--oversubscribe", args.app, args.other_prm,
                  "--set", f"Output/Directory={os.path.join(args.out, 'other')}", "--restart", root]
+        for x in args.other_set:
+            other += ["--set", x]
         refused = subprocess.run(other, capture_output=True, text=True)
         message = [l for l in refused.stderr.splitlines() if "--restart" in l]
         print(f"another problem with this checkpoint: exit {refused.returncode}, {message[:1]}")

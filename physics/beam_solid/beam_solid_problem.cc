@@ -85,6 +85,30 @@ namespace physics::beam_solid
       void                     reset_step() override;
       void                     end_step(int, double) override {}
       void                     write_output(int number, double time, bool last) override;
+      // Checkpoint/restart (quasi-static: the displacements and the output series are the state).
+      std::string checkpoint_kind() const override
+      {
+        return "beam/solid (" + std::to_string(tria_.n_global_active_cells()) + " solid cells, " +
+               std::to_string(dof_handler_.n_dofs()) + " solid DOFs, " + std::to_string(beam_.n_dofs()) +
+               " beam DOFs)";
+      }
+      void save_state(Checkpoint& c) const override
+      {
+        c.store("beam_solid/u", u_);
+        c.store("beam_solid/d_beam", d_beam_);
+        c.set_text("beam_solid/solid_vtk", solid_vtk_->entries());
+        c.set_text("beam_solid/beam_pvd", beam_pvd_->entries()); // rank 0's is the one written
+      }
+      void load_state(const Checkpoint& c) override
+      {
+        c.restore("beam_solid/u", u_);
+        c.restore("beam_solid/d_beam", d_beam_);
+        u_ghosted_      = u_;
+        d_beam_ghosted_ = d_beam_;
+        solid_vtk_->restore(c.text("beam_solid/solid_vtk"));
+        if (rank_ == 0)
+          beam_pvd_->restore(c.text("beam_solid/beam_pvd"));
+      }
 
     private:
       void setup();

@@ -85,8 +85,7 @@ namespace physics
     prm.enter_subsection("Restart");
     prm.declare_entry("Interval", text(checkpoint_interval), Integer(0, 1000000000),
                       "Every this many converged steps the run writes a checkpoint to OUTPUT/restart/step_NNNNNN "
-                      "(the newest named in OUTPUT/restart/latest; older ones are removed). 0: none. contact_blocks "
-                      "writes and resumes checkpoints; the other apps refuse a value > 0 and --restart.");
+                      "(the newest named in OUTPUT/restart/latest; older ones are removed). 0: none.");
     prm.declare_entry("Resume from", "", Anything(),
                       "A checkpoint directory, or a restart/ folder (its newest checkpoint), to continue a run "
                       "from, on the same number of MPI ranks with the same parameters (the command line's "

@@ -19,7 +19,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
+#include <sstream>
 
 namespace physics::fsi
 {
@@ -121,6 +123,87 @@ namespace physics::fsi
     for (const double d : profile)
       wall_csv_ << "," << d;
     wall_csv_ << "\n" << std::flush;
+  }
+
+  template <int dim>
+  std::string CondensedFsi<dim>::checkpoint_kind() const
+  {
+    std::ostringstream kind;
+    kind << "fsi " << dim << "D (fluid " << fluid_tria_.n_global_active_cells() << " cells, structure "
+         << solid_tria_.n_global_active_cells() << " cells, " << n_solid_ + n_fluid_ + n_mesh_ << " DOFs)";
+    return kind.str();
+  }
+
+  template <int dim>
+  void CondensedFsi<dim>::save_state(Checkpoint& c) const
+  {
+    const std::pair<const char*, const TrilinosWrappers::MPI::Vector*> fields[] = {
+        {"d_S", &d_S_}, {"d_S_old", &d_S_old_}, {"d_S_older", &d_S_older_}, {"x_F", &x_F_},
+        {"x_F_old", &x_F_old_}, {"x_F_older", &x_F_older_}, {"d_G", &d_G_}, {"d_G_old", &d_G_old_},
+        {"d_G_older", &d_G_older_}};
+    for (const auto& [name, v] : fields)
+      c.store(std::string("fsi/") + name, *v);
+    dynamics_->save(c, "fsi/structure");
+    std::vector<double> rows, values;
+    for (const auto& [row, value] : lambda_old_)
+      {
+        rows.push_back(static_cast<double>(row));
+        values.push_back(value);
+      }
+    c.set_local("fsi/lambda_rows", rows);
+    c.set_local("fsi/lambda_values", values);
+    c.set("fsi/steps_done", steps_done_);
+    c.set("fsi/max_wall_displacement", max_wall_displacement_);
+    c.set("fsi/volumes", std::vector<double>{volume_old_, volume_older_});
+    c.set("fsi/max_mass_imbalance", max_mass_imbalance_);
+    c.set_text("fsi/fluid_vtk", fluid_vtk_->entries());
+    c.set_text("fsi/solid_vtk", solid_vtk_->entries());
+    std::string csv;
+    if (rank_ == 0)
+      {
+        std::ifstream      in(p_.output_directory + "/wall_displacement.csv");
+        std::ostringstream text;
+        text << in.rdbuf();
+        csv = text.str();
+      }
+    c.set_text("fsi/wall_csv", csv);
+  }
+
+  template <int dim>
+  void CondensedFsi<dim>::load_state(const Checkpoint& c)
+  {
+    const std::pair<const char*, TrilinosWrappers::MPI::Vector*> fields[] = {
+        {"d_S", &d_S_}, {"d_S_old", &d_S_old_}, {"d_S_older", &d_S_older_}, {"x_F", &x_F_},
+        {"x_F_old", &x_F_old_}, {"x_F_older", &x_F_older_}, {"d_G", &d_G_}, {"d_G_old", &d_G_old_},
+        {"d_G_older", &d_G_older_}};
+    for (const auto& [name, v] : fields)
+      c.restore(std::string("fsi/") + name, *v);
+    dynamics_->load(c, "fsi/structure");
+    const auto& rows   = c.local("fsi/lambda_rows");
+    const auto& values = c.local("fsi/lambda_values");
+    lambda_old_.clear();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      lambda_old_[static_cast<GlobalIndex>(rows[k])] = values.at(k);
+    steps_done_            = static_cast<int>(c.number("fsi/steps_done"));
+    max_wall_displacement_ = c.numbers("fsi/max_wall_displacement");
+    const auto& volumes    = c.numbers("fsi/volumes");
+    volume_old_            = volumes.at(0);
+    volume_older_          = volumes.at(1);
+    max_mass_imbalance_    = c.number("fsi/max_mass_imbalance");
+    fluid_vtk_->restore(c.text("fsi/fluid_vtk"));
+    solid_vtk_->restore(c.text("fsi/solid_vtk"));
+    if (rank_ == 0)
+      {
+        // The wall profile as it was at the checkpoint, continued from there.
+        wall_csv_.close();
+        const std::string file = p_.output_directory + "/wall_displacement.csv";
+        write_atomically(file, [&](std::ostream& out) { out << c.text("fsi/wall_csv"); });
+        wall_csv_.open(file, std::ios::app);
+      }
+    // The ghosted copies (the interface velocities follow in the next begin_step).
+    d_S_ghosted_ = d_S_;
+    x_F_ghosted_ = x_F_;
+    d_G_ghosted_ = d_G_;
   }
 
   template class CondensedFsi<2>;

@@ -55,6 +55,11 @@ namespace physics::fsi
     void                     reset_step() override;
     void                     end_step(int number, double time) override;
     void                     write_output(int number, double time, bool last) override;
+    // Checkpoint/restart (condensed_fsi_balance.cc): the three fields with their BDF histories,
+    // the structure's generalized-alpha state, lambda_n, the balance and wall-profile records.
+    std::string checkpoint_kind() const override;
+    void        save_state(Checkpoint& checkpoint) const override;
+    void        load_state(const Checkpoint& checkpoint) override;
 
   private:
     void make_meshes();
