@@ -164,6 +164,29 @@ namespace physics
     v.compress(dealii::VectorOperation::insert);
   }
 
+  void Checkpoint::store(const std::string& key, const std::map<dealii::types::global_dof_index, double>& entries)
+  {
+    std::vector<double> rows, values;
+    for (const auto& [row, value] : entries)
+      {
+        rows.push_back(static_cast<double>(row)); // exact below 2^53
+        values.push_back(value);
+      }
+    set_local(key + "#rows", std::move(rows));
+    set_local(key, std::move(values));
+  }
+
+  void Checkpoint::restore(const std::string& key, std::map<dealii::types::global_dof_index, double>& entries) const
+  {
+    const auto& rows   = local(key + "#rows");
+    const auto& values = local(key);
+    if (rows.size() != values.size())
+      throw std::invalid_argument("--restart '" + source_ + "': entries '" + key + "' are corrupt");
+    entries.clear();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      entries[static_cast<dealii::types::global_dof_index>(rows[k])] = values[k];
+  }
+
   void Checkpoint::write(const std::string& directory, MPI_Comm comm) const
   {
     const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(comm);

@@ -49,6 +49,9 @@ namespace physics
     void store(const std::string& key, const dealii::TrilinosWrappers::MPI::Vector& v);
     /// Sets the owned entries of `v` (already laid out on the run's partition) from store().
     void restore(const std::string& key, dealii::TrilinosWrappers::MPI::Vector& v) const;
+    /// This rank's sparse entries (DOF -> value, e.g. its share of a contact force) and back.
+    void store(const std::string& key, const std::map<dealii::types::global_dof_index, double>& entries);
+    void restore(const std::string& key, std::map<dealii::types::global_dof_index, double>& entries) const;
 
     /// Writes the checkpoint into `directory` (collective; atomically, see above). An existing
     /// checkpoint of that name is replaced.

@@ -41,15 +41,7 @@ namespace physics::contact::internal
     c.store("contact/lambda", lambda_);
     if (dynamics_)
       dynamics_->save(c, "contact/dynamics");
-    // This rank's share of the contact force at t_n (the generalized midpoint needs it).
-    std::vector<double> rows, values;
-    for (const auto& [row, value] : contact_force_old_)
-      {
-        rows.push_back(static_cast<double>(row));
-        values.push_back(value);
-      }
-    c.set_local("contact/force_rows", rows);
-    c.set_local("contact/force_values", values);
+    c.store("contact/force_old", contact_force_old_); // this rank's share at t_n (generalized midpoint)
     c.set("contact/max_penetration", summary_.max_penetration);
     c.set("contact/active_set_sizes", std::vector<double>(summary_.active_set_sizes.begin(), summary_.active_set_sizes.end()));
     c.set("contact/energy_time", summary_.time);
@@ -65,11 +57,7 @@ namespace physics::contact::internal
     c.restore("contact/lambda", lambda_);
     if (dynamics_)
       dynamics_->load(c, "contact/dynamics");
-    const auto& rows   = c.local("contact/force_rows");
-    const auto& values = c.local("contact/force_values");
-    contact_force_old_.clear();
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      contact_force_old_[static_cast<GlobalIndex>(rows[k])] = values.at(k);
+    c.restore("contact/force_old", contact_force_old_);
     summary_.max_penetration = c.number("contact/max_penetration");
     const auto& sizes        = c.numbers("contact/active_set_sizes");
     summary_.active_set_sizes.assign(sizes.begin(), sizes.end());

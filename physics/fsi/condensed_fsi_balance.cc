@@ -144,14 +144,7 @@ namespace physics::fsi
     for (const auto& [name, v] : fields)
       c.store(std::string("fsi/") + name, *v);
     dynamics_->save(c, "fsi/structure");
-    std::vector<double> rows, values;
-    for (const auto& [row, value] : lambda_old_)
-      {
-        rows.push_back(static_cast<double>(row));
-        values.push_back(value);
-      }
-    c.set_local("fsi/lambda_rows", rows);
-    c.set_local("fsi/lambda_values", values);
+    c.store("fsi/lambda_old", lambda_old_);
     c.set("fsi/steps_done", steps_done_);
     c.set("fsi/max_wall_displacement", max_wall_displacement_);
     c.set("fsi/volumes", std::vector<double>{volume_old_, volume_older_});
@@ -179,11 +172,7 @@ namespace physics::fsi
     for (const auto& [name, v] : fields)
       c.restore(std::string("fsi/") + name, *v);
     dynamics_->load(c, "fsi/structure");
-    const auto& rows   = c.local("fsi/lambda_rows");
-    const auto& values = c.local("fsi/lambda_values");
-    lambda_old_.clear();
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      lambda_old_[static_cast<GlobalIndex>(rows[k])] = values.at(k);
+    c.restore("fsi/lambda_old", lambda_old_);
     steps_done_            = static_cast<int>(c.number("fsi/steps_done"));
     max_wall_displacement_ = c.numbers("fsi/max_wall_displacement");
     const auto& volumes    = c.numbers("fsi/volumes");
