@@ -195,6 +195,15 @@ namespace physics::fsi
     d_G_ghosted_ = d_G_;
   }
 
-  template class CondensedFsi<2>;
-  template class CondensedFsi<3>;
+  // The class is instantiated once, in condensed_fsi.cc; here the members this file defines.
+#define PHYSICS_FSI_BALANCE_MEMBERS(dim)                                                         \
+  template typename CondensedFsi<dim>::FluidBalance CondensedFsi<dim>::fluid_balance() const;   \
+  template std::vector<double> CondensedFsi<dim>::wall_profile() const;                        \
+  template void                CondensedFsi<dim>::record_step(int, double);                    \
+  template std::string         CondensedFsi<dim>::checkpoint_kind() const;                     \
+  template void                CondensedFsi<dim>::save_state(Checkpoint&) const;               \
+  template void                CondensedFsi<dim>::load_state(const Checkpoint&);
+  PHYSICS_FSI_BALANCE_MEMBERS(2)
+  PHYSICS_FSI_BALANCE_MEMBERS(3)
+#undef PHYSICS_FSI_BALANCE_MEMBERS
 } // namespace physics::fsi

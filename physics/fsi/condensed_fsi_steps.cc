@@ -263,6 +263,19 @@ namespace physics::fsi
     return parameters.dimension == 3 ? CondensedFsi<3>(parameters, comm).run()
                                      : CondensedFsi<2>(parameters, comm).run();
   }
-  template class CondensedFsi<2>;
-  template class CondensedFsi<3>;
+  // The class is instantiated once, in condensed_fsi.cc (an explicit instantiation of a class
+  // may appear in one file only); here the members this file defines.
+#define PHYSICS_FSI_STEP_MEMBERS(dim)                                                            \
+  template void          CondensedFsi<dim>::check_jacobian();                                   \
+  template Linearization CondensedFsi<dim>::linearize(int);                                     \
+  template void          CondensedFsi<dim>::update(const multigrid::MultiVector&);              \
+  template void          CondensedFsi<dim>::set_update_length(double);                          \
+  template void          CondensedFsi<dim>::begin_step(double, double);                         \
+  template void          CondensedFsi<dim>::reset_step();                                       \
+  template void          CondensedFsi<dim>::end_step(int, double);                              \
+  template void          CondensedFsi<dim>::write_output(int, double, bool);                    \
+  template FsiRunSummary CondensedFsi<dim>::run();
+  PHYSICS_FSI_STEP_MEMBERS(2)
+  PHYSICS_FSI_STEP_MEMBERS(3)
+#undef PHYSICS_FSI_STEP_MEMBERS
 } // namespace physics::fsi
