@@ -135,14 +135,21 @@ namespace physics::fsi
   }
 
   template <int dim>
+  std::vector<std::pair<const char*, TrilinosWrappers::MPI::Vector CondensedFsi<dim>::*>>
+  CondensedFsi<dim>::state_vectors()
+  {
+    return {{"d_S", &CondensedFsi::d_S_},         {"d_S_old", &CondensedFsi::d_S_old_},
+            {"d_S_older", &CondensedFsi::d_S_older_}, {"x_F", &CondensedFsi::x_F_},
+            {"x_F_old", &CondensedFsi::x_F_old_},     {"x_F_older", &CondensedFsi::x_F_older_},
+            {"d_G", &CondensedFsi::d_G_},         {"d_G_old", &CondensedFsi::d_G_old_},
+            {"d_G_older", &CondensedFsi::d_G_older_}};
+  }
+
+  template <int dim>
   void CondensedFsi<dim>::save_state(Checkpoint& c) const
   {
-    const std::pair<const char*, const TrilinosWrappers::MPI::Vector*> fields[] = {
-        {"d_S", &d_S_}, {"d_S_old", &d_S_old_}, {"d_S_older", &d_S_older_}, {"x_F", &x_F_},
-        {"x_F_old", &x_F_old_}, {"x_F_older", &x_F_older_}, {"d_G", &d_G_}, {"d_G_old", &d_G_old_},
-        {"d_G_older", &d_G_older_}};
-    for (const auto& [name, v] : fields)
-      c.store(std::string("fsi/") + name, *v);
+    for (const auto& [name, v] : state_vectors())
+      c.store(std::string("fsi/") + name, this->*v);
     dynamics_->save(c, "fsi/structure");
     c.store("fsi/lambda_old", lambda_old_);
     c.set("fsi/steps_done", steps_done_);
@@ -165,12 +172,8 @@ namespace physics::fsi
   template <int dim>
   void CondensedFsi<dim>::load_state(const Checkpoint& c)
   {
-    const std::pair<const char*, TrilinosWrappers::MPI::Vector*> fields[] = {
-        {"d_S", &d_S_}, {"d_S_old", &d_S_old_}, {"d_S_older", &d_S_older_}, {"x_F", &x_F_},
-        {"x_F_old", &x_F_old_}, {"x_F_older", &x_F_older_}, {"d_G", &d_G_}, {"d_G_old", &d_G_old_},
-        {"d_G_older", &d_G_older_}};
-    for (const auto& [name, v] : fields)
-      c.restore(std::string("fsi/") + name, *v);
+    for (const auto& [name, v] : state_vectors())
+      c.restore(std::string("fsi/") + name, this->*v);
     dynamics_->load(c, "fsi/structure");
     c.restore("fsi/lambda_old", lambda_old_);
     steps_done_            = static_cast<int>(c.number("fsi/steps_done"));
@@ -201,6 +204,8 @@ namespace physics::fsi
   template std::vector<double> CondensedFsi<dim>::wall_profile() const;                        \
   template void                CondensedFsi<dim>::record_step(int, double);                    \
   template std::string         CondensedFsi<dim>::checkpoint_kind() const;                     \
+  template std::vector<std::pair<const char*, TrilinosWrappers::MPI::Vector CondensedFsi<dim>::*>>       \
+  CondensedFsi<dim>::state_vectors();                                                          \
   template void                CondensedFsi<dim>::save_state(Checkpoint&) const;               \
   template void                CondensedFsi<dim>::load_state(const Checkpoint&);
   PHYSICS_FSI_BALANCE_MEMBERS(2)

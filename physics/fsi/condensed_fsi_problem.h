@@ -60,6 +60,8 @@ namespace physics::fsi
     std::string checkpoint_kind() const override;
     void        save_state(Checkpoint& checkpoint) const override;
     void        load_state(const Checkpoint& checkpoint) override;
+    /// The state vectors a checkpoint holds (the fields at t_{n+1}, t_n, t_{n-1}), by name.
+    static std::vector<std::pair<const char*, dealii::TrilinosWrappers::MPI::Vector CondensedFsi::*>> state_vectors();
 
   private:
     void make_meshes();
