@@ -18,13 +18,12 @@ import re
 import subprocess
 import sys
 
+from app_runs import app_command
+
 
 def run(args, ranks):
     out = os.path.join(args.out, f"np{ranks}")
-    command = [args.mpiexec, "-np", str(ranks), "--oversubscribe", args.app, args.prm,
-               "--set", f"Output/Directory={out}", "--set", "Output/VTK=false"]
-    for s in args.set:
-        command += ["--set", s]
+    command = app_command(args.mpiexec, ranks, args.app, args.prm, out, ["Output/VTK=false"] + args.set)
     result = subprocess.run(command, capture_output=True, text=True)
     norms = re.search(r"Displacement norms: l2 (\S+), max (\S+)", result.stdout)
     if result.returncode != 0 or not norms or "; converged" not in result.stdout:

@@ -29,13 +29,11 @@ import subprocess
 import sys
 import time
 
+from app_runs import app_command
+
 
 def command(args, out, extra=()):
-    c = [args.mpiexec, "-np", str(args.ranks), "--oversubscribe", args.app, args.prm,
-         "--set", f"Output/Directory={out}"]
-    for s in args.set:
-        c += ["--set", s]
-    return c + list(extra)
+    return app_command(args.mpiexec, args.ranks, args.app, args.prm, out, args.set, extra)
 
 
 def norms(stdout):
@@ -178,10 +176,8 @@ def main():
             failures.append(f"no step cut after step {args.expect_cut_after} in the resumed run's log")
 
     if args.other_prm:
-        other = [args.mpiexec, "-np", str(args.ranks), "--oversubscribe", args.app, args.other_prm,
-                 "--set", f"Output/Directory={os.path.join(args.out, 'other')}", "--restart", root]
-        for x in args.other_set:
-            other += ["--set", x]
+        other = app_command(args.mpiexec, args.ranks, args.app, args.other_prm, os.path.join(args.out, "other"),
+                            args.other_set, ["--restart", root])
         refused = subprocess.run(other, capture_output=True, text=True)
         message = [l for l in refused.stderr.splitlines() if "--restart" in l]
         print(f"another problem with this checkpoint: exit {refused.returncode}, {message[:1]}")
