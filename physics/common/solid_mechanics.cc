@@ -60,9 +60,10 @@ namespace physics
     const auto&           fe = dof_handler.get_fe();
     const QGauss<dim>     quadrature(fe.degree + 1);
     const QGauss<dim - 1> face_quadrature(fe.degree + 1);
-    const bool            inertia = weights.mass != 0.0;
-    FEValues<dim>         fe_values(
-                fe, quadrature, update_gradients | update_JxW_values | (inertia ? update_values : update_default));
+    const bool            inertia = weights.mass != 0.0, body_force = model.body_force.norm() > 0.0;
+    FEValues<dim>         fe_values(fe, quadrature,
+                                    update_gradients | update_JxW_values |
+                                        (inertia || body_force ? update_values : update_default));
     FEFaceValues<dim>                fe_face_values(fe, face_quadrature, update_values | update_JxW_values);
     const FEValuesExtractors::Vector displacement(0);
 
@@ -128,6 +129,15 @@ namespace physics
                   for (unsigned int i = 0; i < n; ++i)
                     cell_residual(i) -=
                         fe_face_values[displacement].value(i, q) * t->second * fe_face_values.JxW(q);
+              }
+            // Dead body force: subtract int rho0 g . N_i dV.
+            if (body_force)
+              {
+                const double rho = density_of(model, cell->material_id());
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  for (unsigned int i = 0; i < n; ++i)
+                    cell_residual(i) -=
+                        rho * (fe_values[displacement].value(i, q) * model.body_force) * fe_values.JxW(q);
               }
             cell_matrix *= weights.force;
             cell_residual *= weights.force;
@@ -230,6 +240,31 @@ namespace physics
   }
 
   template <int dim>
+  double body_force_potential(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                              const TrilinosWrappers::MPI::Vector& u)
+  {
+    if (model.body_force.norm() == 0.0)
+      return 0.0;
+    const auto&                      fe = dof_handler.get_fe();
+    const QGauss<dim>                quadrature(fe.degree + 1);
+    FEValues<dim>                    fe_values(fe, quadrature, update_values | update_JxW_values);
+    const FEValuesExtractors::Vector displacement(0);
+    std::vector<Tensor<1, dim>>      u_q(quadrature.size());
+    double                           potential = 0;
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const double rho = density_of(model, cell->material_id());
+        fe_values.reinit(cell);
+        fe_values[displacement].get_function_values(u, u_q);
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          potential -= rho * (model.body_force * u_q[q]) * fe_values.JxW(q);
+      }
+    return Utilities::MPI::sum(potential, u.get_mpi_communicator());
+  }
+
+  template <int dim>
   void cell_cauchy_stress(const DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                           const TrilinosWrappers::MPI::Vector& u, std::vector<Vector<float>>& components,
                           Vector<float>& von_mises)
@@ -284,6 +319,10 @@ namespace physics
                                    const TrilinosWrappers::MPI::Vector&);
   template double strain_energy<3>(const DoFHandler<3>&, const SolidModel<3>&,
                                    const TrilinosWrappers::MPI::Vector&);
+  template double body_force_potential<2>(const DoFHandler<2>&, const SolidModel<2>&,
+                                          const TrilinosWrappers::MPI::Vector&);
+  template double body_force_potential<3>(const DoFHandler<3>&, const SolidModel<3>&,
+                                          const TrilinosWrappers::MPI::Vector&);
   template void   cell_cauchy_stress<2>(const DoFHandler<2>&, const SolidModel<2>&,
                                       const TrilinosWrappers::MPI::Vector&, std::vector<Vector<float>>&,
                                       Vector<float>&);

@@ -1,9 +1,9 @@
 // Total-Lagrangian hyperelastic solid: residual and consistent tangent of the internal forces,
-// minus dead nominal tractions on boundary parts, assembled with deal.II (any dim, any vector
+// minus dead nominal tractions on boundary parts and a dead body force, assembled with deal.II (any dim, any vector
 // FE with dim components). Shared by every problem class with a solid.
 //
 // With P = F S (first Piola-Kirchhoff stress) and the virtual deformation gradient grad(dphi):
-//   r_i     = int_Omega0 P : grad N_i dV - int_Gamma0 t0 . N_i dA
+//   r_i     = int_Omega0 P : grad N_i dV - int_Omega0 rho0 g . N_i dV - int_Gamma0 t0 . N_i dA
 //   K_ij    = int_Omega0 grad N_i : (dP/dF) : grad N_j dV,
 //   dP/dF : H = H S + F (CC : sym(F^T H))        (geometric + material part).
 #pragma once
@@ -28,8 +28,10 @@ namespace physics
     std::map<dealii::types::material_id, std::shared_ptr<const HyperelasticMaterial<dim>>> materials;
     /// Dead nominal traction (force per reference area) per boundary id.
     std::map<dealii::types::boundary_id, dealii::Tensor<1, dim>> tractions;
-    /// Reference mass density per cell material id (dynamics only; kg/m^3, per m in 2D).
+    /// Reference mass density per cell material id (dynamics and body forces; kg/m^3, per m in 2D).
     std::map<dealii::types::material_id, double> densities;
+    /// Dead body force per unit mass (gravity, m/s^2): the force rho0 g per reference volume.
+    dealii::Tensor<1, dim> body_force;
   };
 
   /// Weights of a time-integrated residual  w_f r(u) + c_m M u  and its Jacobian
@@ -44,7 +46,7 @@ namespace physics
   /// `constraints` (Dirichlet DOFs get a diagonal entry and diagonal x inhomogeneity as residual),
   /// weighted as `weights` says. `u` must hold the locally relevant entries. Throws
   /// std::domain_error if an element inverts, and std::invalid_argument for a cell whose material
-  /// id has no law (or no density when weights.mass != 0).
+  /// id has no law (or no density when weights.mass != 0 or a body force is set).
   template <int dim>
   void assemble_solid(const dealii::DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                       const dealii::TrilinosWrappers::MPI::Vector& u,
@@ -62,6 +64,12 @@ namespace physics
   template <int dim>
   double strain_energy(const dealii::DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
                        const dealii::TrilinosWrappers::MPI::Vector& u);
+
+  /// Potential of the dead body force, -int rho0 g . u dV (summed over the ranks): with the strain
+  /// and kinetic energies the conserved total of a body under gravity.
+  template <int dim>
+  double body_force_potential(const dealii::DoFHandler<dim>& dof_handler, const SolidModel<dim>& model,
+                              const dealii::TrilinosWrappers::MPI::Vector& u);
 
   /// Cell averages of the Cauchy stress (dim*dim components per locally owned cell, in the order
   /// of active cells; zero for cells not owned) and of the von Mises stress, for output.

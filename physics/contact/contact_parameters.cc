@@ -45,6 +45,15 @@ namespace physics::contact
     prm.declare_entry("Displacement", "0, -0.02", Anything(),
                       "Total prescribed displacement of the loaded face (dim comma-separated values, m).");
     prm.declare_entry("Pressure", "0", Double(), "Total nominal pressure (Pa, >= 0) for Type = pressure.");
+    prm.declare_entry("Gravity", "", Anything(),
+                      "Dead body force per unit mass on every body (dim comma-separated values, m/s^2, e.g. "
+                      "'0, -9.81'; empty: none), with the Density of the Material section. Quasi-static: it "
+                      "ramps with the load factor like the other loads. Dynamics: see Gravity ramp time.");
+    prm.declare_entry("Gravity ramp time", "0", Double(),
+                      "Dynamics: the body force grows linearly from zero at t = 0 to its full value at this time "
+                      "(s, >= 0) and stays there; 0: full from the start. Bodies that start resting on each "
+                      "other under a sudden load bounce; a ramp over a few of their vibration periods lets them "
+                      "settle.");
     prm.declare_entry("Load steps", "4", Integer(1, 100000),
                       "Number of steps: equal quasi-static load increments, or time steps for generalized-alpha. "
                       "The load ramps linearly over all steps.");
@@ -71,6 +80,13 @@ namespace physics::contact
                       "c_n = factor * E / h in the complementarity function (> 0).");
     prm.declare_entry("Search radius factor", "1", Double(),
                       "Face bounding boxes are enlarged by this times the face size (>= 0).");
+    prm.declare_entry("Friction coefficient", "0", Double(),
+                      "Coulomb friction coefficient mu (>= 0; 0: frictionless). Each active contact node "
+                      "sticks (no relative slip in the step) or slips with tangential traction mu times the "
+                      "contact pressure, decided with the active set in the semi-smooth Newton method.");
+    prm.declare_entry("Tangential complementarity factor", "1", Double(),
+                      "c_t = factor * E / h in the frictional complementarity function (> 0; steers the "
+                      "stick/slip decision of the Newton iterates, not the solution).");
     prm.declare_entry("Contact surface ids", "", Anything(),
                       "Multi-body contact: comma-separated boundary ids of the contact surfaces; every face with "
                       "one of them belongs to the body (material id, i.e. gmsh physical surface/volume) of its "
@@ -198,6 +214,14 @@ namespace physics::contact
     if (pressure < 0)
       throw std::invalid_argument("parameter 'Pressure': expected a value >= 0, got " + std::to_string(pressure));
     load_steps = prm.get_integer("Load steps");
+    gravity    = numbers(prm.get("Gravity"), "Gravity");
+    if (!gravity.empty() && static_cast<int>(gravity.size()) != dimension)
+      throw std::invalid_argument("parameter 'Gravity': expected " + std::to_string(dimension) +
+                                  " components, got " + std::to_string(gravity.size()));
+    gravity_ramp_time = prm.get_double("Gravity ramp time");
+    if (!(gravity_ramp_time >= 0))
+      throw std::invalid_argument("parameter 'Gravity ramp time': expected a value >= 0, got " +
+                                  prm.get("Gravity ramp time"));
     prm.leave_subsection();
 
     prm.enter_subsection("Time integration");
@@ -223,6 +247,12 @@ namespace physics::contact
     search_radius_factor   = prm.get_double("Search radius factor");
     if (search_radius_factor < 0)
       throw std::invalid_argument("parameter 'Search radius factor': expected a value >= 0");
+    friction_coefficient = prm.get_double("Friction coefficient");
+    if (!(friction_coefficient >= 0))
+      throw std::invalid_argument("parameter 'Friction coefficient': expected a value >= 0, got " +
+                                  prm.get("Friction coefficient"));
+    tangential_factor = positive(prm.get_double("Tangential complementarity factor"),
+                                 "Tangential complementarity factor");
     surface_ids = boundary_ids(prm.get("Contact surface ids"), "Contact surface ids");
     watch_ids   = boundary_ids(prm.get("Self-contact check ids"), "Self-contact check ids");
     pairs       = contact_pairs(prm.get("Pairs"));

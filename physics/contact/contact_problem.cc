@@ -129,13 +129,15 @@ namespace physics::contact
       settings.master_boundary      = p_.master_id;
       settings.dual                 = p_.dual;
       settings.search_radius_factor = p_.search_radius_factor;
+      settings.friction_coefficient = p_.friction_coefficient;
       settings.surface_boundaries.assign(p_.surface_ids.begin(), p_.surface_ids.end());
       settings.watch_boundaries.assign(p_.watch_ids.begin(), p_.watch_ids.end());
       for (const auto& [slave, master] : p_.pairs)
         settings.pairs.emplace_back(slave, master);
       contact_ = std::make_unique<MortarContact<dim>>(dof_handler_, settings);
-      contact_->set_complementarity_parameter(p_.complementarity_factor * p_.youngs_modulus /
-                                              contact_->minimal_slave_face_size());
+      const double stiffness_per_length = p_.youngs_modulus / contact_->minimal_slave_face_size();
+      contact_->set_complementarity_parameters(p_.complementarity_factor * stiffness_per_length,
+                                               p_.tangential_factor * stiffness_per_length);
 
       ghosts_ = relevant_;
       {
@@ -256,7 +258,10 @@ namespace physics::contact
       const auto lame    = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
       std::shared_ptr<const HyperelasticMaterial<dim>> law = make_material<dim>(p_.law, lame);
       for (const auto& cell : tria_.active_cell_iterators())
-        model_.materials[cell->material_id()] = law;
+        {
+          model_.materials[cell->material_id()] = law;
+          model_.densities[cell->material_id()] = p_.density; // inertia and the body force
+        }
       u_.reinit(owned_, comm_);
       u_ghosted_.reinit(owned_, ghosts_, comm_);
       lambda_.reinit(owned_, comm_);
@@ -266,8 +271,6 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::setup_dynamics()
     {
-      for (const auto& cell : tria_.active_cell_iterators())
-        model_.densities[cell->material_id()] = p_.density;
       dynamics_ = std::make_unique<SolidDynamics<dim>>(p_.spectral_radius, p_.time_step, dof_handler_, model_, owned_,
                                                        relevant_, comm_);
       auto& v = dynamics_->velocity();
@@ -278,7 +281,7 @@ namespace physics::contact
               if (!constraints_.is_constrained(node.dofs[d]))
                 v[node.dofs[d]] = p_.initial_velocity[d];
       v.compress(VectorOperation::insert);
-      set_prescribed_values(0.0);
+      set_prescribed_values(0.0, 0.0);
       dynamics_->initial_acceleration(u_, constraints_); // contact forces are zero at t0 (lambda = 0)
     }
 
@@ -301,8 +304,16 @@ namespace physics::contact
     }
 
     template <int dim>
-    void ContactProblem<dim>::set_prescribed_values(double load_factor)
+    void ContactProblem<dim>::set_prescribed_values(double load_factor, double time)
     {
+      if (!p_.gravity.empty())
+        {
+          const double factor = !dynamics_                   ? load_factor
+                                : p_.gravity_ramp_time > 0.0 ? std::min(1.0, time / p_.gravity_ramp_time)
+                                                             : 1.0;
+          for (unsigned int d = 0; d < dim; ++d)
+            model_.body_force[d] = factor * p_.gravity[d];
+        }
       if (p_.load_type == "displacement")
         {
           Vector<double> value(dim);
@@ -375,20 +386,31 @@ namespace physics::contact
     }
 
     template <int dim>
+    void ContactProblem<dim>::mark_step_start()
+    {
+      if (!contact_->frictional())
+        return;
+      u_ghosted_ = u_;
+      contact_->set_step_start(positions(contact_->slave_nodes()), positions(contact_->master_nodes()));
+    }
+
+    template <int dim>
     void ContactProblem<dim>::begin_step(double time, double step)
     {
       time_        = time;
-      load_factor_ = dynamics_ ? time / (p_.load_steps * p_.time_step) : time;
+      load_factor_ = load_factor_at(time);
       u_begin_     = u_;
       lambda_begin_ = lambda_;
+      mark_step_start();
       previous_active_.clear();
+      previous_slip_.clear();
       first_in_step_ = true;
       if (dynamics_)
         {
           dynamics_->set_time_step(step);
           dynamics_->begin_step(u_, constraints_); // before the loads move on to t_{n+1}
         }
-      set_prescribed_values(load_factor_);
+      set_prescribed_values(load_factor_, time);
     }
 
     template <int dim>
@@ -407,7 +429,11 @@ namespace physics::contact
       // The set's signature: a sum of hashes of the active nodes' first DOF (order- and
       // partition-independent; unsigned sums wrap), plus one so that "no node active" is a state
       // too (0 means "no state" to the Newton solver).
+      // With friction the stick/slip split is part of the state: a node that changes from stick
+      // to slip counts as a change, and slip nodes enter the signature with their second DOF.
+      const bool    friction  = contact_->frictional();
       std::uint64_t signature = 0;
+      n_slip_                 = 0;
       for (unsigned int j = 0; j < state.active.size(); ++j)
         if (contact_->owns_slave_node(j))
           {
@@ -415,9 +441,17 @@ namespace physics::contact
             n_changed_ += !first_in_step_ && previous_active_[j] != state.active[j];
             if (state.active[j])
               signature += mix_bits(contact_->slave_nodes()[j].dofs[0]);
+            if (!friction)
+              continue;
+            n_slip_ += state.slip[j];
+            n_changed_ += !first_in_step_ && state.active[j] && previous_active_[j] && previous_slip_[j] != state.slip[j];
+            if (state.slip[j])
+              signature += mix_bits(contact_->slave_nodes()[j].dofs[1]);
           }
       n_active_           = Utilities::MPI::sum(n_active_, comm_);
       n_changed_          = Utilities::MPI::sum(n_changed_, comm_);
+      n_slip_             = Utilities::MPI::sum(n_slip_, comm_);
+      previous_slip_      = state.slip;
       MPI_Allreduce(MPI_IN_PLACE, &signature, 1, MPI_UINT64_T, MPI_SUM, comm_);
       active_set_signature_ = signature + 1;
       active_set_changed_ = first_in_step_ || n_changed_ > 0;
@@ -528,6 +562,13 @@ namespace physics::contact
     template <int dim>
     void ContactProblem<dim>::end_step(int number, double time)
     {
+      // The last evaluation is the converged state's: its nodes' lambda_tau . u is what friction
+      // dissipated in the step (each node counted by its owner).
+      double work = 0;
+      for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
+        if (contact_->owns_slave_node(j) && contact_->state().active[j])
+          work += contact_->state().dissipation[j];
+      friction_work_ += Utilities::MPI::sum(work, comm_);
       check_converged_contact(number, time);
       if (!dynamics_)
         return;

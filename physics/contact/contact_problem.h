@@ -1,4 +1,5 @@
-// Frictionless mortar contact of two hyperelastic bodies (2D plane strain or 3D), quasi-static
+// Mortar contact of hyperelastic bodies, frictionless or with Coulomb friction (2D plane strain or
+// 3D), any number of bodies, quasi-static
 // (load stepping) or dynamic (generalized-alpha, common/time_integration.h): mesh from gmsh,
 // semi-smooth Newton with the contact active set updated inside the Newton loop, each linear
 // system solved by GMRES with a block-AMG preset of multigrid/.
@@ -35,6 +36,8 @@ namespace physics::contact
     std::string         load_type = "displacement"; ///< displacement | pressure | none
     std::vector<double> displacement{0.0, -0.02};   ///< total prescribed displacement of the loaded face
     double              pressure = 0.0;             ///< total nominal pressure on the loaded face
+    std::vector<double> gravity;                    ///< body force per unit mass (empty: none)
+    double              gravity_ramp_time = 0.0;    ///< dynamics: gravity grows linearly until then
     int                 load_steps = 4;             ///< load increments, or time steps (dynamics)
     // Time integration
     std::string         scheme = "quasi-static";    ///< quasi-static | generalized-alpha
@@ -44,6 +47,8 @@ namespace physics::contact
     bool   dual                   = true;
     double complementarity_factor = 1.0; ///< c_n = factor * E / h
     double search_radius_factor   = 1.0;
+    double friction_coefficient   = 0.0; ///< Coulomb's mu (0: frictionless)
+    double tangential_factor      = 1.0; ///< c_t = factor * E / h
     // Multi-body contact (empty surface_ids: the two-body mode of slave_id / master_id)
     std::vector<int>                 surface_ids; ///< contact surface boundary ids (bodies = material ids)
     std::vector<std::pair<int, int>> pairs;       ///< (slave body, master body); empty: automatic
@@ -74,14 +79,18 @@ namespace physics::contact
     std::vector<double>                normal_pressure; ///< lambda_n
     std::vector<double>                weight;          ///< w_j = int Phi_j (current slave area share)
     std::vector<bool>                  active;
+    std::vector<double>                tangential; ///< |lambda_tau|
+    std::vector<bool>                  slip;       ///< active and sliding (frictionless: = active)
     double                             max_displacement = 0; ///< max |u| over all nodes
     double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
     long long slave_nodes          = 0; ///< all ranks
     long long max_slave_nodes_held = 0; ///< the most slave nodes one rank holds (own + ghost faces)
     /// Largest penetration max(0, -g~_j / w_j) over the covered slave nodes of all converged steps.
     double max_penetration = 0;
-    // Dynamics: after each time step (index 0: the initial state)
-    std::vector<double> time, kinetic_energy, strain_energy;
+    // Dynamics: after each time step (index 0: the initial state); the potential of the body force
+    // (gravity), and the energy dissipated by friction up to that step (sum over the steps and
+    // active nodes of lambda_tau . u, see contact/coulomb_friction.h).
+    std::vector<double> time, kinetic_energy, strain_energy, body_force_potential, friction_work;
   };
 
   /// Runs the whole simulation. Input errors (mesh, ids, parameters) throw std::invalid_argument

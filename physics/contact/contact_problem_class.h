@@ -52,7 +52,10 @@ namespace physics::contact::internal
     void          update(const multigrid::MultiVector& dx) override;
     void          set_update_length(double step_length) override;
     void          describe(JsonLinesLog::Line& line, std::ostream& console) const override;
-    std::string   console_header() const override { return "   active  changed"; }
+    std::string   console_header() const override
+    {
+      return p_.friction_coefficient > 0 ? "   active  changed     slip" : "   active  changed";
+    }
     void          begin_step(double time, double step) override;
     void          reset_step() override;
     void          end_step(int number, double time) override;
@@ -78,7 +81,11 @@ namespace physics::contact::internal
     void setup_model();
     /// Setup: summary sizes, the run log, the VTK series and the run's console description.
     void setup_output();
-    void set_prescribed_values(double load_factor);
+    /// The loads of load factor `load_factor` (quasi-static) or time `time` (dynamics): the
+    /// prescribed displacements, the pressure, the body force.
+    void set_prescribed_values(double load_factor, double time);
+    /// The load factor of a (pseudo-)time: the load ramps linearly over all steps.
+    double load_factor_at(double time) const { return dynamics_ ? time / (p_.load_steps * p_.time_step) : time; }
     /// Constraints of a load step's first Newton update: the homogeneous ones, with the jump
     /// of the prescribed values as inhomogeneity (so the increment is spread by the solve
     /// instead of being imposed on one layer of elements).
@@ -91,6 +98,8 @@ namespace physics::contact::internal
     std::vector<std::array<double, dim>> positions(const std::vector<SurfaceNode<dim>>& nodes) const;
     /// The multipliers of this rank's slave nodes (dim each) from the ghosted multiplier vector.
     std::vector<double> slave_multipliers();
+    /// Friction: the current positions are the start of a step, from which the slip is measured.
+    void mark_step_start();
     /// Active-set bookkeeping of the last evaluation against the previous one of this step.
     void count_active_set();
     void final_state(ContactRunSummary& summary);
@@ -148,7 +157,9 @@ namespace physics::contact::internal
     std::vector<bool>                     previous_active_; ///< of the previous evaluation in this step
     /// No evaluation yet in this step (a rank may hold no slave node: not `previous_active_`'s size).
     bool                first_in_step_ = true;
-    int                 n_active_ = 0, n_changed_ = 0;
+    std::vector<bool>   previous_slip_;   ///< friction: of the previous evaluation in this step
+    int                 n_active_ = 0, n_changed_ = 0, n_slip_ = 0;
+    double              friction_work_ = 0; ///< energy dissipated by friction up to the last step
     bool                active_set_changed_   = true;
     std::uint64_t       active_set_signature_ = 0; ///< of the last evaluation (see count_active_set)
     ContactLinearSystem linear_;                   ///< the last linearization

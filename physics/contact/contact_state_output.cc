@@ -22,6 +22,11 @@ namespace physics::contact::internal
   {
     line.add("load_factor", load_factor_).add("active", n_active_).add("active_changed", n_changed_);
     console << std::setw(9) << n_active_ << std::setw(9) << n_changed_;
+    if (contact_->frictional())
+      {
+        line.add("slip", n_slip_);
+        console << std::setw(9) << n_slip_;
+      }
   }
 
   template <int dim>
@@ -42,11 +47,15 @@ namespace physics::contact::internal
     if (dynamics_)
       dynamics_->save(c, "contact/dynamics");
     c.store("contact/force_old", contact_force_old_); // this rank's share at t_n (generalized midpoint)
+    c.set("contact/time", time_); // the converged step's: the loads of t_n for the next step
     c.set("contact/max_penetration", summary_.max_penetration);
     c.set("contact/active_set_sizes", std::vector<double>(summary_.active_set_sizes.begin(), summary_.active_set_sizes.end()));
     c.set("contact/energy_time", summary_.time);
     c.set("contact/kinetic_energy", summary_.kinetic_energy);
     c.set("contact/strain_energy", summary_.strain_energy);
+    c.set("contact/body_force_potential", summary_.body_force_potential);
+    c.set("contact/friction_work", summary_.friction_work);
+    c.set("contact/friction_work_total", friction_work_);
     c.set_text("contact/vtk_series", vtk_->entries());
   }
 
@@ -58,12 +67,18 @@ namespace physics::contact::internal
     if (dynamics_)
       dynamics_->load(c, "contact/dynamics");
     c.restore("contact/force_old", contact_force_old_);
+    time_        = c.number("contact/time");
+    load_factor_ = load_factor_at(time_);
+    set_prescribed_values(load_factor_, time_); // generalized-alpha's h_n needs the loads of t_n
     summary_.max_penetration = c.number("contact/max_penetration");
     const auto& sizes        = c.numbers("contact/active_set_sizes");
     summary_.active_set_sizes.assign(sizes.begin(), sizes.end());
     summary_.time           = c.numbers("contact/energy_time");
     summary_.kinetic_energy = c.numbers("contact/kinetic_energy");
     summary_.strain_energy  = c.numbers("contact/strain_energy");
+    summary_.body_force_potential = c.numbers("contact/body_force_potential");
+    summary_.friction_work  = c.numbers("contact/friction_work");
+    friction_work_          = c.number("contact/friction_work_total");
     vtk_->restore(c.text("contact/vtk_series"));
     u_ghosted_      = u_;
     lambda_ghosted_ = lambda_;
@@ -89,6 +104,7 @@ namespace physics::contact::internal
     // bodies overlapping, which the contact constraints would push apart in the first step
     // with an unphysical impulse. The active-set guess of the first real evaluation stays.
     ContactContribution unused;
+    mark_step_start();
     contact_->evaluate(positions(contact_->slave_nodes()), positions(contact_->master_nodes()), slave_multipliers(),
                        [&](GlobalIndex dof) { return constraints_.is_constrained(dof); }, unused);
     contact_->restart_active_set();
@@ -112,6 +128,8 @@ namespace physics::contact::internal
     summary_.max_penetration = std::max(summary_.max_penetration, penetration);
     JsonLinesLog::Line line;
     line.add("converged_step", number).add("time", time).add("active", n_active_).add("max_penetration", penetration);
+    if (contact_->frictional())
+      line.add("slip", n_slip_).add("friction_work", friction_work_);
     log_.write(line);
     u_ghosted_             = u_;
     const std::string self = contact_->detect_self_contact(positions(contact_->slave_nodes()),
@@ -134,12 +152,14 @@ namespace physics::contact::internal
     lambda_ghosted_   = lambda_;
     const auto& state = contact_->state();
     const auto  xs    = positions(contact_->slave_nodes());
-    // Per node, 9 numbers: reference (3), position (3), pressure, weight, active.
-    std::vector<double> mine;
+    // Per node, 11 numbers: reference (3), position (3), pressure, weight, active, |lambda_tau|,
+    // slip.
+    constexpr std::size_t n_values = 11;
+    std::vector<double>   mine;
     for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
       if (contact_->owns_slave_node(j))
         {
-          std::array<double, 9> row{};
+          std::array<double, n_values> row{};
           double                ln = 0;
           for (unsigned int d = 0; d < dim; ++d)
             {
@@ -149,18 +169,20 @@ namespace physics::contact::internal
             }
           row[6] = ln;
           row[7] = state.weight[j];
-          row[8] = state.active[j] ? 1 : 0;
+          row[8]  = state.active[j] ? 1 : 0;
+          row[9]  = state.tangential[j];
+          row[10] = state.slip[j] ? 1 : 0;
           mine.insert(mine.end(), row.begin(), row.end());
         }
     auto all = Utilities::MPI::gather(comm_, mine, 0);
     if (rank_ == 0)
       {
-        std::vector<std::array<double, 9>> nodes;
+        std::vector<std::array<double, n_values>> nodes;
         for (const auto& part : all)
-          for (std::size_t i = 0; i + 9 <= part.size(); i += 9)
+          for (std::size_t i = 0; i + n_values <= part.size(); i += n_values)
             {
-              std::array<double, 9> row;
-              std::copy(part.begin() + i, part.begin() + i + 9, row.begin());
+              std::array<double, n_values> row;
+              std::copy(part.begin() + i, part.begin() + i + n_values, row.begin());
               nodes.push_back(row);
             }
         std::sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
@@ -172,6 +194,8 @@ namespace physics::contact::internal
             summary.normal_pressure.push_back(row[6]);
             summary.weight.push_back(row[7]);
             summary.active.push_back(row[8] != 0);
+            summary.tangential.push_back(row[9]);
+            summary.slip.push_back(row[10] != 0);
           }
       }
     summary.max_displacement = u_.linfty_norm();
@@ -182,17 +206,27 @@ namespace physics::contact::internal
   void ContactProblem<dim>::log_energies(int step, double time)
   {
     u_ghosted_           = u_;
+    // total = kinetic + strain + the body force's potential; with the friction work added it is
+    // what the bodies would hold without friction (constant up to the time discretization when
+    // the loads do no other work).
     const double kinetic = dynamics_->kinetic_energy(),
-                 strain  = strain_energy(dof_handler_, model_, u_ghosted_);
+                 strain  = strain_energy(dof_handler_, model_, u_ghosted_),
+                 potential = body_force_potential(dof_handler_, model_, u_ghosted_);
     summary_.time.push_back(time);
     summary_.kinetic_energy.push_back(kinetic);
     summary_.strain_energy.push_back(strain);
+    summary_.body_force_potential.push_back(potential);
+    summary_.friction_work.push_back(friction_work_);
     JsonLinesLog::Line line;
     line.add("time_step", step)
         .add("time", time)
         .add("kinetic_energy", kinetic)
-        .add("strain_energy", strain)
-        .add("total_energy", kinetic + strain);
+        .add("strain_energy", strain);
+    if (model_.body_force.norm() > 0)
+      line.add("body_force_potential", potential);
+    line.add("total_energy", kinetic + strain + potential);
+    if (contact_->frictional())
+      line.add("friction_work", friction_work_);
     log_.write(line);
   }
 
@@ -244,6 +278,30 @@ namespace physics::contact::internal
     out.add_data_vector(fields_g, names, DataOut<dim>::type_dof_data,
                         std::vector<DataComponentInterpretation::DataComponentInterpretation>(
                             dim, DataComponentInterpretation::component_is_scalar));
+    // Friction: |lambda_tau| and the slip flag (1: sliding, 0: sticking or not in contact), in 3D
+    // also the slip of the step (the third component of the node's layout).
+    TrilinosWrappers::MPI::Vector friction_g;
+    if (contact_->frictional())
+      {
+        TrilinosWrappers::MPI::Vector friction(owned_, comm_);
+        for (unsigned int j = 0; j < contact_->n_slave_nodes(); ++j)
+          if (contact_->owns_slave_node(j))
+            {
+              friction[contact_->slave_nodes()[j].dofs[0]] = state.tangential[j];
+              friction[contact_->slave_nodes()[j].dofs[1]] = state.slip[j] ? 1.0 : 0.0;
+              if (dim == 3)
+                friction[contact_->slave_nodes()[j].dofs[dim - 1]] = state.slip_distance[j];
+            }
+        friction.compress(VectorOperation::insert);
+        friction_g.reinit(owned_, relevant_, comm_);
+        friction_g = friction;
+        std::vector<std::string> friction_names = {"tangential_traction", "slip"};
+        if (dim == 3)
+          friction_names.push_back("slip_distance");
+        out.add_data_vector(friction_g, friction_names, DataOut<dim>::type_dof_data,
+                            std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+                                dim, DataComponentInterpretation::component_is_scalar));
+      }
     out.build_patches();
     vtk_->write(out, step, time);
   }

@@ -322,35 +322,32 @@ namespace physics::contact
   }
 
   template <int dim>
-  std::vector<double> MortarContact<dim>::sum_over_ranks(const std::vector<double>& partial) const
+  std::vector<double> MortarContact<dim>::sum_over_ranks(const std::vector<double>& partial, int n_vectors) const
   {
-    // The sums travel in vectors of the displacement layout: v_j in node j's dim DOFs, w_j in its
-    // first DOF of a second vector. Adding into the owners, then updating the ghosts, gives every
-    // rank the owner's total for each of its nodes (all are locally relevant).
+    // The sums travel in vectors of the displacement layout: each dim-vector in node j's dim DOFs,
+    // w_j in its first DOF of one more vector. Adding into the owners, then updating the ghosts,
+    // gives every rank the owner's total for each of its nodes (all are locally relevant).
     using dealii::TrilinosWrappers::MPI::Vector;
-    Vector v_add, w_add;
-    v_add.reinit(owned_, relevant_, comm_, true);
-    w_add.reinit(owned_, relevant_, comm_, true);
+    const int           stride = n_vectors * dim + 1;
+    std::vector<Vector> sums(n_vectors + 1);
+    for (auto& v : sums)
+      v.reinit(owned_, relevant_, comm_, true);
+    auto dof_of = [&](std::size_t j, int i) { return slave_nodes_[j].dofs[i < n_vectors * dim ? i % dim : 0]; };
     for (std::size_t j = 0; j < slave_nodes_.size(); ++j)
+      for (int i = 0; i < stride; ++i)
+        if (partial[j * stride + i] != 0.0)
+          sums[i / dim][dof_of(j, i)] += partial[j * stride + i];
+    std::vector<Vector> totals(sums.size());
+    for (std::size_t s = 0; s < sums.size(); ++s)
       {
-        for (int d = 0; d < dim; ++d)
-          if (partial[j * (dim + 1) + d] != 0.0)
-            v_add[slave_nodes_[j].dofs[d]] += partial[j * (dim + 1) + d];
-        if (partial[j * (dim + 1) + dim] != 0.0)
-          w_add[slave_nodes_[j].dofs[0]] += partial[j * (dim + 1) + dim];
+        sums[s].compress(dealii::VectorOperation::add);
+        totals[s].reinit(owned_, relevant_, comm_);
+        totals[s] = sums[s];
       }
-    v_add.compress(dealii::VectorOperation::add);
-    w_add.compress(dealii::VectorOperation::add);
-    Vector v(owned_, relevant_, comm_), w(owned_, relevant_, comm_);
-    v = v_add;
-    w = w_add;
     std::vector<double> total(partial.size());
     for (std::size_t j = 0; j < slave_nodes_.size(); ++j)
-      {
-        for (int d = 0; d < dim; ++d)
-          total[j * (dim + 1) + d] = v[slave_nodes_[j].dofs[d]];
-        total[j * (dim + 1) + dim] = w[slave_nodes_[j].dofs[0]];
-      }
+      for (int i = 0; i < stride; ++i)
+        total[j * stride + i] = totals[i / dim][dof_of(j, i)];
     return total;
   }
 

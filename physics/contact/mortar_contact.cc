@@ -39,45 +39,6 @@ namespace physics::contact
       return r;
     }
 
-    /// Unit normal and dim-1 unit tangents at a slave node from its adjacent faces (outward unit
-    /// normals at the face centres, averaged), for any scalar type.
-    template <typename T, int dim>
-    std::array<Point<T, dim>, dim> nodal_frame(const std::vector<std::vector<Point<T, dim>>>& faces)
-    {
-      Point<T, dim> n;
-      for (int d = 0; d < dim; ++d)
-        n[d] = 0.0;
-      for (const auto& f : faces)
-        {
-          const auto nf = face_unit_normal<T, dim>(f);
-          for (int d = 0; d < dim; ++d)
-            n[d] += nf[d];
-        }
-      const T len = sqrt_of(dot<T, dim>(n, n));
-      for (int d = 0; d < dim; ++d)
-        n[d] /= len;
-      std::array<Point<T, dim>, dim> frame;
-      frame[0] = n;
-      if constexpr (dim == 2)
-        frame[1] = {{-n[1], n[0]}};
-      else
-        {
-          // First tangent: the coordinate axis least aligned with n, made orthogonal to n.
-          int axis = 0;
-          for (int d = 1; d < 3; ++d)
-            if (std::abs(value_of(n[d])) < std::abs(value_of(n[axis])))
-              axis = d;
-          Point<T, 3> t;
-          for (int d = 0; d < 3; ++d)
-            t[d] = (d == axis ? 1.0 : 0.0) - n[axis] * n[d];
-          const T tl = sqrt_of(dot<T, 3>(t, t));
-          for (int d = 0; d < 3; ++d)
-            t[d] /= tl;
-          frame[1] = t;
-          frame[2] = cross<T>(n, t);
-        }
-      return frame;
-    }
   } // namespace
 
   template <int dim>
@@ -112,10 +73,16 @@ namespace physics::contact
       master_boxes.emplace_back(face_box(master_faces_.nodes[g], master_x), g);
     const auto tree = dealii::pack_rtree(master_boxes);
 
-    // Per slave node: partial sums of this rank's faces: v_j (dim) and w_j, and the gradient of
-    // v_j (by DOF, dim components).
-    std::vector<double> partial(S * (dim + 1), 0.0);
-    std::vector<std::map<global_dof_index, std::array<double, dim>>> dv(S);
+    // Per slave node: partial sums of this rank's faces: v_j (dim), with friction the slip
+    // v_j - v_j^start (dim), and w_j; the gradients of v_j and (friction) of v_j - v_j^start and
+    // w_j (by DOF).
+    const bool friction = frictional();
+    if (friction && (slave_start_.size() != S || master_start_.size() != master_nodes_.size()))
+      throw std::logic_error("MortarContact::evaluate: friction needs set_step_start() first");
+    const int           n_vectors = friction ? 2 : 1, stride = n_vectors * dim + 1;
+    std::vector<double> partial(S * stride, 0.0);
+    std::vector<std::map<global_dof_index, std::array<double, dim>>> dv(S), dslip(friction ? S : 0);
+    std::vector<std::map<global_dof_index, double>>                 dw(friction ? S : 0);
 
     auto add = [&](global_dof_index row, global_dof_index col, double value) {
       if (value != 0.0)
@@ -164,13 +131,31 @@ namespace physics::contact
                       v += pair.M[a][l] * adm[l][d];
                     for (int k = 0; k < ns; ++k)
                       v -= pair.D[a][k] * ads[k][d];
-                    partial[j * (dim + 1) + d] += v.val();
+                    partial[j * stride + d] += v.val();
                     for (int i = 0; i < n_vars; ++i)
                       if (v.dx(i) != 0.0)
                         dv[j][var_dof(i)][d] += v.dx(i);
+                    if (!friction)
+                      continue;
+                    // Slip: v_j minus the same sums with the step's start positions.
+                    AD slip = v;
+                    for (int l = 0; l < nm; ++l)
+                      slip -= pair.M[a][l] * master_start_[mf[l]][d];
+                    for (int k = 0; k < ns; ++k)
+                      slip += pair.D[a][k] * slave_start_[sf[k]][d];
+                    partial[j * stride + dim + d] += slip.val();
+                    for (int i = 0; i < n_vars; ++i)
+                      if (slip.dx(i) != 0.0)
+                        dslip[j][var_dof(i)][d] += slip.dx(i);
                   }
                 for (int k = 0; k < ns; ++k)
-                  partial[j * (dim + 1) + dim] += pair.D[a][k].val();
+                  {
+                    partial[j * stride + stride - 1] += pair.D[a][k].val();
+                    if (friction)
+                      for (int i = 0; i < n_vars; ++i)
+                        if (pair.D[a][k].dx(i) != 0.0)
+                          dw[j][var_dof(i)] += pair.D[a][k].dx(i);
+                  }
 
                 // Structural rows: slave + D^T lambda, master - M^T lambda; columns lambda and
                 // (through dD, dM) the positions.
@@ -207,12 +192,16 @@ namespace physics::contact
 
     // Totals over all ranks' faces (the same on every rank holding the node): v_j, w_j; normals;
     // the active set.
-    const std::vector<double> total = sum_over_ranks(partial);
+    const std::vector<double> total = sum_over_ranks(partial, n_vectors);
     state_.active.assign(S, false);
     state_.covered.assign(S, false);
     state_.weighted_gap.assign(S, 0.0);
     state_.weight.assign(S, 0.0);
     state_.normal_pressure.assign(S, 0.0);
+    state_.slip.assign(S, false);
+    state_.tangential.assign(S, 0.0);
+    state_.slip_distance.assign(S, 0.0);
+    state_.dissipation.assign(S, 0.0);
     auto adjacent_positions = [&](unsigned int j, auto make) {
       using T = typename decltype(make(0, 0))::value_type;
       std::vector<std::vector<Point<T, dim>>> faces;
@@ -249,11 +238,11 @@ namespace physics::contact
               constraint_row_[j][m] = best;
             }
         }
-        const double w   = total[j * (dim + 1) + dim];
+        const double w   = total[j * stride + stride - 1];
         double       g = 0, ln = 0;
         for (int d = 0; d < dim; ++d)
           {
-            g += frame[0][d] * total[j * (dim + 1) + d];
+            g += frame[0][d] * total[j * stride + d];
             ln += frame[0][d] * lambda[dim * j + d];
           }
         state_.weight[j]          = w;
@@ -269,6 +258,7 @@ namespace physics::contact
           state_.active[j] = state_.covered[j] && g / w <= 1e-8 * minimal_slave_face_size();
         else
           state_.active[j] = state_.covered[j] && ln - settings_.complementarity_parameter * g / w > 0.0;
+        state_.slip[j] = state_.active[j] && !friction; // frictionless: every contact node slides
       }
 
     first_evaluation_ = false;
@@ -287,6 +277,8 @@ namespace physics::contact
                   value += normals_[j][d] * grad[d];
                 add(constraint_row(j, 0), dof, value);
               }
+        if (state_.active[j] && friction && needs_state_[j])
+          add_friction_rows(j, slave_x, lambda, total, dslip[j], dw[j], free_dof, out);
         if (!owns_slave_node(j))
           continue;
         if (!state_.active[j])
@@ -322,11 +314,11 @@ namespace physics::contact
             {
               double value = 0;
               for (int d = 0; d < dim; ++d)
-                value += total[j * (dim + 1) + d] * frame[0][d].dx(i);
+                value += total[j * stride + d] * frame[0][d].dx(i);
               add(constraint_row(j, 0), dof_of(i), value);
             }
-        // Tangential rows: tau_m . lambda_j = 0.
-        for (int m = 1; m < dim; ++m)
+        // Tangential rows, frictionless: tau_m . lambda_j = 0 (with friction: added above).
+        for (int m = 1; m < dim && !friction; ++m)
           {
             const global_dof_index row = constraint_row(j, m);
             double                 r   = 0;

@@ -1,4 +1,5 @@
-// Frictionless dual/standard mortar contact with a semi-smooth Newton method (CONTACT.md):
+// Dual/standard mortar contact, frictionless or with Coulomb friction (coulomb_friction.h), with a
+// semi-smooth Newton method (CONTACT.md):
 // the contact surfaces of a deal.II mesh, the mortar matrices D and M with their exact
 // linearization (Sacado forward AD through mortar_integration.h), nodal normals, weighted gaps,
 // the active set and the contact rows and columns of the Newton system.
@@ -15,8 +16,11 @@
 //    w_j = sum_k D_jk (> 0), so that c_n carries units of stiffness per length (E/h).
 //    Active A = {j : lambda_n,j - c_n g~_j / w_j > 0}, inactive I = the rest.
 //  - Multiplier rows of slave node j hold, in the node's own frame, one normal and dim-1
-//    tangential constraints (constraint_row() says which row holds which). Inactive: lambda_j = 0 (identity rows). Active: g~_j = 0 linearized (N row) and
-//    tau_j^m . lambda_j = 0 linearized (T and F rows).
+//    tangential constraints (constraint_row() says which row holds which). Inactive: lambda_j = 0
+//    (identity rows). Active: g~_j = 0 linearized (N row) and, frictionless, tau_j^m . lambda_j = 0
+//    linearized (T and F rows); with friction coefficient mu > 0 the tangential rows are the
+//    stick or slip rows of coulomb_friction.h (each active node is in the stick or the slip set,
+//    updated with the active set), whose slip is measured from set_step_start()'s positions.
 //
 // Bodies and pairs: in the two-body mode (ContactSettings::surface_boundaries empty) the faces
 // with the slave boundary id form the slave surface and those with the master boundary id the
@@ -81,6 +85,8 @@ namespace physics::contact
     std::vector<std::pair<unsigned int, unsigned int>> pairs;
     /// Faces only checked for self-contact (e.g. the inner surfaces of rings), never integrated.
     std::vector<dealii::types::boundary_id> watch_boundaries;
+    double friction_coefficient = 0.0; ///< Coulomb's mu (0: frictionless)
+    double tangential_parameter = 1.0; ///< c_t of the frictional complementarity function
   };
 
   /// One contact-surface node (a mesh vertex with dim displacement DOFs).
@@ -124,6 +130,11 @@ namespace physics::contact
     std::vector<double> weighted_gap;   ///< g~_j
     std::vector<double> weight;         ///< w_j = sum_k D_jk
     std::vector<double> normal_pressure;///< lambda_n,j
+    // Friction (mu > 0; frictionless: slip = active, the rest zero)
+    std::vector<bool>   slip;           ///< active and sliding (Coulomb bound reached)
+    std::vector<double> tangential;     ///< |lambda_tau,j|
+    std::vector<double> slip_distance;  ///< |u_j| / w_j: relative slip in the step (length)
+    std::vector<double> dissipation;    ///< lambda_tau,j . u_j: energy dissipated in the step
   };
 
   template <int dim>
@@ -135,8 +146,22 @@ namespace physics::contact
     /// missing boundary id if a surface is empty on all ranks.
     MortarContact(const dealii::DoFHandler<dim>& dof_handler, const ContactSettings& settings);
 
-    /// c_n of the complementarity function (it needs the mesh size, known after construction).
-    void set_complementarity_parameter(double c_n) { settings_.complementarity_parameter = c_n; }
+    /// c_n and c_t of the complementarity functions (they need the mesh size, known after
+    /// construction).
+    void set_complementarity_parameters(double c_n, double c_t)
+    {
+      settings_.complementarity_parameter = c_n;
+      settings_.tangential_parameter      = c_t;
+    }
+    bool frictional() const { return settings_.friction_coefficient > 0.0; }
+    /// Friction: the positions of this rank's slave nodes and of all master nodes at the start of
+    /// the step, from which evaluate() measures the slip (unused without friction).
+    void set_step_start(const std::vector<std::array<double, dim>>& slave_x,
+                        const std::vector<std::array<double, dim>>& master_x)
+    {
+      slave_start_  = slave_x;
+      master_start_ = master_x;
+    }
 
     /// The slave nodes this rank holds (of its own and adjacent ghost slave faces).
     unsigned int n_slave_nodes() const { return slave_nodes_.size(); }
@@ -199,7 +224,17 @@ namespace physics::contact
   private:
     /// v_j (dim) and w_j of this rank's faces summed over all ranks' faces at every node this
     /// rank holds (partial: dim + 1 values per node of slave_nodes_).
-    std::vector<double> sum_over_ranks(const std::vector<double>& partial) const;
+    /// Generalized: per node `n_vectors` dim-vectors followed by w_j (v_j, and with friction
+    /// v_j^start as well).
+    std::vector<double> sum_over_ranks(const std::vector<double>& partial, int n_vectors) const;
+    /// The tangential rows of the active slave node j with friction (coulomb_friction.h): the
+    /// owner adds the residual and the derivatives with respect to lambda_j and the nodal frame,
+    /// every rank the derivatives through its partial sums `dslip`, `dw` of v_j - v_j^start and w_j.
+    void add_friction_rows(unsigned int j, const std::vector<std::array<double, dim>>& slave_x,
+                           const std::vector<double>& lambda, const std::vector<double>& total,
+                           const std::map<global_dof_index, std::array<double, dim>>& dslip,
+                           const std::map<global_dof_index, double>& dw,
+                           const std::function<bool(global_dof_index)>& free_dof, ContactContribution& out);
     /// After the slave faces are collected: which nodes need a state (own nodes, nodes of own
     /// faces: `touched`), the faces around each node in a rank-independent order, h_min.
     void finish_slave_side(const std::set<global_dof_index>& touched);
@@ -221,5 +256,6 @@ namespace physics::contact
     bool                                   first_evaluation_ = true;
     double                                 h_min_            = 0; ///< smallest slave edge (reference)
     std::vector<std::array<int, dim>>      constraint_row_; ///< component row of each constraint
+    std::vector<std::array<double, dim>>   slave_start_, master_start_; ///< friction: step start
   };
 } // namespace physics::contact

@@ -502,4 +502,44 @@ namespace physics::contact
       }
     return result;
   }
+
+  /// Unit normal and dim-1 unit tangents at a slave node from its adjacent faces (outward unit
+  /// normals at the face centres, averaged), for any scalar type.
+  template <typename T, int dim>
+  std::array<Point<T, dim>, dim> nodal_frame(const std::vector<std::vector<Point<T, dim>>>& faces)
+  {
+    Point<T, dim> n;
+    for (int d = 0; d < dim; ++d)
+      n[d] = 0.0;
+    for (const auto& f : faces)
+      {
+        const auto nf = face_unit_normal<T, dim>(f);
+        for (int d = 0; d < dim; ++d)
+          n[d] += nf[d];
+      }
+    const T len = sqrt_of(dot<T, dim>(n, n));
+    for (int d = 0; d < dim; ++d)
+      n[d] /= len;
+    std::array<Point<T, dim>, dim> frame;
+    frame[0] = n;
+    if constexpr (dim == 2)
+      frame[1] = {{-n[1], n[0]}};
+    else
+      {
+        // First tangent: the coordinate axis least aligned with n, made orthogonal to n.
+        int axis = 0;
+        for (int d = 1; d < 3; ++d)
+          if (std::abs(value_of(n[d])) < std::abs(value_of(n[axis])))
+            axis = d;
+        Point<T, 3> t;
+        for (int d = 0; d < 3; ++d)
+          t[d] = (d == axis ? 1.0 : 0.0) - n[axis] * n[d];
+        const T tl = sqrt_of(dot<T, 3>(t, t));
+        for (int d = 0; d < 3; ++d)
+          t[d] /= tl;
+        frame[1] = t;
+        frame[2] = cross<T>(n, t);
+      }
+    return frame;
+  }
 } // namespace physics::contact
