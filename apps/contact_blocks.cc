@@ -49,9 +49,9 @@ namespace
       out << "x,y,z,contact_pressure,weight,active,tangential_traction,slip\n" << std::setprecision(12);
       for (std::size_t j = 0; j < summary.active.size(); ++j)
         out << summary.slave_positions[j][0] << "," << summary.slave_positions[j][1] << ","
-            << summary.slave_positions[j][2] << "," << summary.normal_pressure[j] << "," << summary.weight[j] << ","
-            << (summary.active[j] ? 1 : 0) << "," << summary.tangential[j] << "," << (summary.slip[j] ? 1 : 0)
-            << "\n";
+            << summary.slave_positions[j][2] << "," << summary.normal_pressure[j] << "," << summary.weight[j]
+            << "," << (summary.active[j] ? 1 : 0) << "," << summary.tangential[j] << ","
+            << (summary.slip[j] ? 1 : 0) << "\n";
     }
     std::filesystem::rename(tmp, csv);
   }
@@ -66,18 +66,17 @@ namespace
           const double pn = summary.normal_pressure[j];
           tangential_force += summary.weight[j] * summary.tangential[j];
           n_slip += summary.slip[j];
-          p_min           = n_active == 0 ? pn : std::min(p_min, pn);
-          p_max           = n_active == 0 ? pn : std::max(p_max, pn);
+          p_min = n_active == 0 ? pn : std::min(p_min, pn);
+          p_max = n_active == 0 ? pn : std::max(p_max, pn);
           force += summary.weight[j] * pn;
           ++n_active;
         }
     std::cout << "Contact: " << n_active << " active slave nodes, pressure min " << p_min << " max " << p_max
               << ", total normal force " << force << "\n";
     if (tangential_force > 0) // friction
-      std::cout << "Friction: " << n_slip << " of " << n_active << " active nodes slip, sum of weighted |lambda_tau| "
-                << tangential_force << "\n";
-    std::cout
-              << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "
+      std::cout << "Friction: " << n_slip << " of " << n_active
+                << " active nodes slip, sum of weighted |lambda_tau| " << tangential_force << "\n";
+    std::cout << std::setprecision(16) << "Displacement norms: l2 " << summary.displacement_l2 << ", max "
               << summary.max_displacement << "\n"
               << std::defaultfloat << std::setprecision(6)
               << "Largest penetration of the converged steps (max -g~_j / w_j): " << summary.max_penetration << "\n";

@@ -72,7 +72,7 @@ namespace
 TEST(CoulombFriction, SlipRowsVanishOnCoulombsLaw)
 {
   const double angle = 0.4, lambda_n = 2.0, w = 0.5;
-  const auto   f     = frame<double>(angle);
+  const auto   f = frame<double>(angle);
   // s = -(tau_1 + 2 tau_2) * 0.1: u = (0.1, 0.2), direction (1, 2) / sqrt(5)
   std::array<double, n_inputs> x{};
   for (int d = 0; d < 3; ++d)
@@ -80,14 +80,15 @@ TEST(CoulombFriction, SlipRowsVanishOnCoulombsLaw)
       x[4 + d] = -(f[1][d] + 2 * f[2][d]) * 0.1;
       x[d]     = lambda_n * f[0][d] + 0.3 * lambda_n * (f[1][d] + 2 * f[2][d]) / std::sqrt(5.0);
     }
-  x[3] = angle;
-  x[7] = w;
+  x[3]         = angle;
+  x[7]         = w;
   const auto r = rows<double>(x, law);
   EXPECT_TRUE(r.slip);
   EXPECT_NEAR(r.residual[0], 0.0, 1e-14);
   EXPECT_NEAR(r.residual[1], 0.0, 1e-14);
   // dissipation lambda_tau . u = mu lambda_n |u| > 0
-  const double work = r.tangential_multiplier[0] * r.slip_increment[0] + r.tangential_multiplier[1] * r.slip_increment[1];
+  const double work =
+      r.tangential_multiplier[0] * r.slip_increment[0] + r.tangential_multiplier[1] * r.slip_increment[1];
   EXPECT_NEAR(work, 0.3 * lambda_n * std::sqrt(0.05), 1e-14);
 }
 
@@ -113,7 +114,7 @@ TEST(CoulombFriction, DerivativesMatchFiniteDifferences)
 // a trial traction against the current tangential multiplier takes the stick rows.
 TEST(CoulombFriction, NewtonPathChoices)
 {
-  const double lambda_n = 2.0;
+  const double                 lambda_n = 2.0;
   std::array<double, n_inputs> on_limit{{0.3 * lambda_n, 0.0, lambda_n, 0.0, 0.0, 0.0, 0.0, 0.5}};
   EXPECT_TRUE(rows<double>(on_limit, law).slip);
   on_limit[0] *= 1.0 - 1e-12; // round-off below the limit

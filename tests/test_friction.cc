@@ -26,7 +26,10 @@ namespace
   // The upper block of meshes/two_blocks_2d.geo: 0.8 x 0.4 m, density 1000 kg/m^3 (per m depth).
   constexpr double block_mass = 0.8 * 0.4 * 1000, ramp_time = 0.04;
 
-  bool root() { return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0; }
+  bool root()
+  {
+    return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  }
 
   std::string output(const std::string& name)
   {
@@ -38,25 +41,25 @@ namespace
   /// 0.04 s (a sudden load would make the stiff blocks bounce) and stays.
   ContactParameters incline(double degrees, int steps, const std::string& name)
   {
-    const double theta = degrees * pi / 180;
+    const double      theta = degrees * pi / 180;
     ContactParameters p;
-    p.mesh_file            = std::string(MESH_DIR) + "/two_blocks_2d.geo";
-    p.gmsh_refinement      = 2;
-    p.youngs_modulus       = 1e8;
-    p.density              = 1000;
-    p.load_type            = "none";
-    p.load_steps           = steps;
-    p.gravity              = {g * std::sin(theta), -g * std::cos(theta)};
-    p.gravity_ramp_time    = ramp_time;
-    p.scheme               = "generalized-alpha";
-    p.time_step            = 2e-3;
-    p.spectral_radius      = 1.0;
-    p.friction_coefficient = mu;
+    p.mesh_file                        = std::string(MESH_DIR) + "/two_blocks_2d.geo";
+    p.gmsh_refinement                  = 2;
+    p.youngs_modulus                   = 1e8;
+    p.density                          = 1000;
+    p.load_type                        = "none";
+    p.load_steps                       = steps;
+    p.gravity                          = {g * std::sin(theta), -g * std::cos(theta)};
+    p.gravity_ramp_time                = ramp_time;
+    p.scheme                           = "generalized-alpha";
+    p.time_step                        = 2e-3;
+    p.spectral_radius                  = 1.0;
+    p.friction_coefficient             = mu;
     p.solver.preset                    = "direct(superlu)";
     p.solver.newton_relative_tolerance = 1e-9;
     p.solver.newton_absolute_tolerance = 1e-7;
-    p.vtk              = false;
-    p.output_directory = output(name);
+    p.vtk                              = false;
+    p.output_directory                 = output(name);
     return p;
   }
 
@@ -101,22 +104,24 @@ namespace
 TEST(Friction, BlockOnInclineSlidesAboveTheCoulombThreshold)
 {
   const double theta = 30 * pi / 180, a = g * (std::sin(theta) - mu * std::cos(theta));
-  const auto   s     = run_contact(incline(30, 60, "incline-slide"), MPI_COMM_WORLD);
+  const auto   s = run_contact(incline(30, 60, "incline-slide"), MPI_COMM_WORLD);
   ASSERT_TRUE(s.converged) << s.failure;
   EXPECT_LT(s.max_penetration, 1e-6 * 0.4); // below 1e-6 of the block's thickness
 
   // Rigid sliding after the ramp: v = a (t - ramp / 2); the speed from the kinetic energy (the
   // block's elastic vibration and the lower block's add a little).
   const std::size_t i1 = at_time(s, 0.06), i2 = s.time.size() - 1;
-  const double      v1 = std::sqrt(2 * s.kinetic_energy[i1] / block_mass),
-               v2    = std::sqrt(2 * s.kinetic_energy[i2] / block_mass);
+  const double      v1  = std::sqrt(2 * s.kinetic_energy[i1] / block_mass),
+               v2       = std::sqrt(2 * s.kinetic_energy[i2] / block_mass);
   const double measured = (v2 - v1) / (s.time[i2] - s.time[i1]);
   EXPECT_NEAR(measured, a, 0.02 * a) << "sliding acceleration";
 
   // Energy: once gravity is constant, kinetic + strain + gravity potential decreases by exactly
   // what friction dissipates (the scheme with rho_inf = 1 dissipates nothing itself).
-  const std::size_t i0 = at_time(s, ramp_time);
-  const auto total = [&](std::size_t i) { return s.kinetic_energy[i] + s.strain_energy[i] + s.body_force_potential[i]; };
+  const std::size_t i0    = at_time(s, ramp_time);
+  const auto        total = [&](std::size_t i) {
+    return s.kinetic_energy[i] + s.strain_energy[i] + s.body_force_potential[i];
+  };
   const double lost = total(i0) - total(i2), friction = s.friction_work[i2] - s.friction_work[i0];
   EXPECT_GT(friction, 0.0);
   EXPECT_NEAR(lost, friction, 0.01 * friction) << "energy lost vs friction work";
@@ -132,8 +137,8 @@ TEST(Friction, BlockOnInclineSlidesAboveTheCoulombThreshold)
       EXPECT_EQ(f.slip, f.active) << "every contact node slides";
       EXPECT_LT(f.slip_deviation, 1e-6) << "|lambda_tau| = mu lambda_n in slip";
       std::cout << std::defaultfloat << std::setprecision(6) << "incline 30 deg: acceleration " << measured
-                << " (rigid " << a << "), energy lost " << lost << ", friction work " << friction << " (mu N s "
-                << expected << "), " << f.slip << " of " << f.active
+                << " (rigid " << a << "), energy lost " << lost << ", friction work " << friction
+                << " (mu N s " << expected << "), " << f.slip << " of " << f.active
                 << " nodes slip, largest | |lambda_tau| / lambda_n - mu | / mu " << f.slip_deviation << "\n";
     }
 }
@@ -155,8 +160,8 @@ TEST(Friction, BlockOnInclineSticksBelowTheCoulombThreshold)
       EXPECT_EQ(f.slip, 0) << "no node slides";
       EXPECT_LT(f.stick_ratio, mu);
       std::cout << std::defaultfloat << std::setprecision(6) << "incline 10 deg: " << f.active
-                << " nodes stick, largest |lambda_tau| / lambda_n " << f.stick_ratio << ", largest displacement "
-                << s.max_displacement << "\n";
+                << " nodes stick, largest |lambda_tau| / lambda_n " << f.stick_ratio
+                << ", largest displacement " << s.max_displacement << "\n";
     }
 }
 
@@ -190,9 +195,10 @@ TEST(Friction, PushedBlock3DSlipsAtTheCoulombBound)
       EXPECT_GT(f.active, 0);
       EXPECT_EQ(f.slip, f.active);
       EXPECT_LT(f.slip_deviation, 1e-6);
-      std::cout << std::defaultfloat << std::setprecision(6) << "pushed block 3D: " << f.slip << " of " << f.active
-                << " nodes slip, largest deviation " << f.slip_deviation << ", Newton steps per load step "
-                << s.newton_iterations[0] << ", " << s.newton_iterations[1] << "\n";
+      std::cout << std::defaultfloat << std::setprecision(6) << "pushed block 3D: " << f.slip << " of "
+                << f.active << " nodes slip, largest deviation " << f.slip_deviation
+                << ", Newton steps per load step " << s.newton_iterations[0] << ", " << s.newton_iterations[1]
+                << "\n";
     }
 }
 
@@ -219,6 +225,7 @@ TEST(Friction, OneRankAndAllRanksAgree)
     return;
   ASSERT_EQ(all.slip, one.slip);
   std::cout << std::defaultfloat << std::setprecision(10) << "1 vs "
-            << dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) << " ranks: " << one.residuals.size() << " steps, |u| " << one.displacement_l2 << " vs " << all.displacement_l2
-            << ", friction work " << one.friction_work.back() << " vs " << all.friction_work.back() << "\n";
+            << dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) << " ranks: " << one.residuals.size()
+            << " steps, |u| " << one.displacement_l2 << " vs " << all.displacement_l2 << ", friction work "
+            << one.friction_work.back() << " vs " << all.friction_work.back() << "\n";
 }

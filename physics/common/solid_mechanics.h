@@ -1,6 +1,6 @@
 // Total-Lagrangian hyperelastic solid: residual and consistent tangent of the internal forces,
-// minus dead nominal tractions on boundary parts and a dead body force, assembled with deal.II (any dim, any vector
-// FE with dim components). Shared by every problem class with a solid.
+// minus dead nominal tractions on boundary parts and a dead body force, assembled with deal.II
+// (any dim, any vector FE with dim components). Shared by every problem class with a solid.
 //
 // With P = F S (first Piola-Kirchhoff stress) and the virtual deformation gradient grad(dphi):
 //   r_i     = int_Omega0 P : grad N_i dV - int_Omega0 rho0 g . N_i dV - int_Gamma0 t0 . N_i dA

@@ -444,7 +444,8 @@ namespace physics::contact
             if (!friction)
               continue;
             n_slip_ += state.slip[j];
-            n_changed_ += !first_in_step_ && state.active[j] && previous_active_[j] && previous_slip_[j] != state.slip[j];
+            const bool was_active = !first_in_step_ && previous_active_[j];
+            n_changed_ += was_active && state.active[j] && previous_slip_[j] != state.slip[j];
             if (state.slip[j])
               signature += mix_bits(contact_->slave_nodes()[j].dofs[1]);
           }

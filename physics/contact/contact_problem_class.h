@@ -85,7 +85,10 @@ namespace physics::contact::internal
     /// prescribed displacements, the pressure, the body force.
     void set_prescribed_values(double load_factor, double time);
     /// The load factor of a (pseudo-)time: the load ramps linearly over all steps.
-    double load_factor_at(double time) const { return dynamics_ ? time / (p_.load_steps * p_.time_step) : time; }
+    double load_factor_at(double time) const
+    {
+      return dynamics_ ? time / (p_.load_steps * p_.time_step) : time;
+    }
     /// Constraints of a load step's first Newton update: the homogeneous ones, with the jump
     /// of the prescribed values as inhomogeneity (so the increment is spread by the solve
     /// instead of being imposed on one layer of elements).

@@ -322,7 +322,8 @@ namespace physics::contact
   }
 
   template <int dim>
-  std::vector<double> MortarContact<dim>::sum_over_ranks(const std::vector<double>& partial, int n_vectors) const
+  std::vector<double> MortarContact<dim>::sum_over_ranks(const std::vector<double>& partial,
+                                                         int                        n_vectors) const
   {
     // The sums travel in vectors of the displacement layout: each dim-vector in node j's dim DOFs,
     // w_j in its first DOF of one more vector. Adding into the owners, then updating the ghosts,
@@ -332,7 +333,9 @@ namespace physics::contact
     std::vector<Vector> sums(n_vectors + 1);
     for (auto& v : sums)
       v.reinit(owned_, relevant_, comm_, true);
-    auto dof_of = [&](std::size_t j, int i) { return slave_nodes_[j].dofs[i < n_vectors * dim ? i % dim : 0]; };
+    auto dof_of = [&](std::size_t j, int i) {
+      return slave_nodes_[j].dofs[i < n_vectors * dim ? i % dim : 0];
+    };
     for (std::size_t j = 0; j < slave_nodes_.size(); ++j)
       for (int i = 0; i < stride; ++i)
         if (partial[j * stride + i] != 0.0)

@@ -51,9 +51,9 @@ namespace physics::contact
   /// `lambda` the node's multiplier (Cartesian), `dv` = v_j - v_j^start, `w` = w_j, `gap_over_weight`
   /// = g~_j / w_j (only in the stick/slip decision, not differentiated).
   template <typename T, int dim>
-  TangentialRows<T, dim> coulomb_rows(const std::array<Point<T, dim>, dim>& frame, const Point<T, dim>& lambda,
-                                      const Point<T, dim>& dv, const T& w, double gap_over_weight,
-                                      const FrictionLaw& law)
+  TangentialRows<T, dim> coulomb_rows(const std::array<Point<T, dim>, dim>& frame,
+                                      const Point<T, dim>& lambda, const Point<T, dim>& dv, const T& w,
+                                      double gap_over_weight, const FrictionLaw& law)
   {
     TangentialRows<T, dim> rows;
     const T                lambda_n = dot<T, dim>(frame[0], lambda);
@@ -63,7 +63,7 @@ namespace physics::contact
       {
         rows.tangential_multiplier[m - 1] = dot<T, dim>(frame[m], lambda);
         rows.slip_increment[m - 1]        = -dot<T, dim>(frame[m], dv);
-        xi[m - 1]                         = rows.tangential_multiplier[m - 1] + law.c_t * rows.slip_increment[m - 1] / w;
+        xi[m - 1] = rows.tangential_multiplier[m - 1] + law.c_t * rows.slip_increment[m - 1] / w;
         xi_norm2 += value_of(xi[m - 1]) * value_of(xi[m - 1]);
         reversal += value_of(xi[m - 1]) * value_of(rows.tangential_multiplier[m - 1]);
       }

@@ -10,12 +10,11 @@
 namespace physics::contact
 {
   template <int dim>
-  void MortarContact<dim>::add_friction_rows(unsigned int j, const std::vector<std::array<double, dim>>& slave_x,
-                                             const std::vector<double>& lambda, const std::vector<double>& total,
-                                             const std::map<global_dof_index, std::array<double, dim>>& dslip,
-                                             const std::map<global_dof_index, double>& dw,
-                                             const std::function<bool(global_dof_index)>& free_dof,
-                                             ContactContribution& out)
+  void MortarContact<dim>::add_friction_rows(
+      unsigned int j, const std::vector<std::array<double, dim>>& slave_x, const std::vector<double>& lambda,
+      const std::vector<double>& total, const std::map<global_dof_index, std::array<double, dim>>& dslip,
+      const std::map<global_dof_index, double>& dw, const std::function<bool(global_dof_index)>& free_dof,
+      ContactContribution& out)
   {
     using AD = Sacado::Fad::DFad<double>;
     // The node's rows are a function of lambda_j, of the positions of the nodes of its adjacent
@@ -52,11 +51,11 @@ namespace physics::contact
     const AD          w(n_vars, w_var, total[j * stride + stride - 1]);
     const FrictionLaw law{settings_.friction_coefficient, settings_.tangential_parameter,
                           settings_.complementarity_parameter};
-    const auto rows = coulomb_rows<AD, dim>(nodal_frame<AD, dim>(faces), lam, slip, w,
+    const auto        rows = coulomb_rows<AD, dim>(nodal_frame<AD, dim>(faces), lam, slip, w,
                                             state_.weighted_gap[j] / state_.weight[j], law);
 
     // The node's friction state (the same on every rank holding it).
-    state_.slip[j]   = rows.slip;
+    state_.slip[j] = rows.slip;
     double t2 = 0, u2 = 0, work = 0;
     for (int m = 0; m < dim - 1; ++m)
       {
@@ -109,10 +108,12 @@ namespace physics::contact
                                                     const std::vector<double>&, const std::vector<double>&,
                                                     const std::map<global_dof_index, std::array<double, 2>>&,
                                                     const std::map<global_dof_index, double>&,
-                                                    const std::function<bool(global_dof_index)>&, ContactContribution&);
+                                                    const std::function<bool(global_dof_index)>&,
+                                                    ContactContribution&);
   template void MortarContact<3>::add_friction_rows(unsigned int, const std::vector<std::array<double, 3>>&,
                                                     const std::vector<double>&, const std::vector<double>&,
                                                     const std::map<global_dof_index, std::array<double, 3>>&,
                                                     const std::map<global_dof_index, double>&,
-                                                    const std::function<bool(global_dof_index)>&, ContactContribution&);
+                                                    const std::function<bool(global_dof_index)>&,
+                                                    ContactContribution&);
 } // namespace physics::contact
