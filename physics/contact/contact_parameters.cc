@@ -36,7 +36,7 @@ namespace physics::contact
                       "'5:0, 6:1'. Empty: none.");
     prm.leave_subsection();
 
-    MaterialParameters::declare(prm, d, "both bodies", "Pa", "kg/m^3 (used by dynamics)", true);
+    MaterialParameters::declare(prm, d, "both bodies", "Pa", "kg/m^3 (used by dynamics and Gravity)", true);
 
     prm.enter_subsection("Loading");
     prm.declare_entry("Type", "displacement", Selection("displacement|pressure|none"),
