@@ -291,12 +291,8 @@ namespace physics::contact
             continue;
           }
         // The nodal frame as AD function of the adjacent faces' node positions.
-        std::vector<unsigned int> vars; // slave node of each AD variable block
-        for (unsigned int f : slave_node_faces_[j])
-          for (unsigned int k : slave_faces_.nodes[f])
-            if (std::find(vars.begin(), vars.end(), k) == vars.end())
-              vars.push_back(k);
-        const int n_vars = vars.size() * dim;
+        const std::vector<unsigned int> vars   = frame_nodes(j); // slave node of each AD variable block
+        const int                       n_vars = vars.size() * dim;
         const auto faces = adjacent_positions(j, [&](unsigned int k, unsigned int) {
           const int      i = std::find(vars.begin(), vars.end(), k) - vars.begin();
           Point<AD, dim> p;

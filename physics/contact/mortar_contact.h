@@ -59,6 +59,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <map>
@@ -235,6 +236,16 @@ namespace physics::contact
                            const std::map<global_dof_index, std::array<double, dim>>& dslip,
                            const std::map<global_dof_index, double>& dw,
                            const std::function<bool(global_dof_index)>& free_dof, ContactContribution& out);
+    /// The slave nodes of the faces around node j, each once: what its nodal frame depends on.
+    std::vector<unsigned int> frame_nodes(unsigned int j) const
+    {
+      std::vector<unsigned int> nodes;
+      for (unsigned int f : slave_node_faces_[j])
+        for (unsigned int k : slave_faces_.nodes[f])
+          if (std::find(nodes.begin(), nodes.end(), k) == nodes.end())
+            nodes.push_back(k);
+      return nodes;
+    }
     /// After the slave faces are collected: which nodes need a state (own nodes, nodes of own
     /// faces: `touched`), the faces around each node in a rank-independent order, h_min.
     void finish_slave_side(const std::set<global_dof_index>& touched);

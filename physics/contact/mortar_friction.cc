@@ -20,11 +20,7 @@ namespace physics::contact
     // The node's rows are a function of lambda_j, of the positions of the nodes of its adjacent
     // faces (through the nodal frame), and of the nodal sums s_j = v_j - v_j^start and w_j. AD
     // variables in that order: lambda (dim), frame nodes (dim each), s_j (dim), w_j.
-    std::vector<unsigned int> frame_nodes;
-    for (unsigned int f : slave_node_faces_[j])
-      for (unsigned int k : slave_faces_.nodes[f])
-        if (std::find(frame_nodes.begin(), frame_nodes.end(), k) == frame_nodes.end())
-          frame_nodes.push_back(k);
+    const std::vector<unsigned int> frame_nodes = this->frame_nodes(j);
     const int n_frame = frame_nodes.size() * dim, first_slip = dim + n_frame, w_var = first_slip + dim,
               n_vars = w_var + 1;
     std::vector<std::vector<Point<AD, dim>>> faces;
