@@ -12,6 +12,7 @@
 #include <BelosXpetraAdapter.hpp>
 #include <BelosXpetraStatusTestGenResSubNorm.hpp>
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_Time.hpp>
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
@@ -28,6 +29,17 @@ namespace multigrid
   namespace
   {
     using MV = MultiVector;
+
+    /// VmHWM of /proc/self/status in MB (the process's peak resident set); 0 if unreadable.
+    double peak_resident_mb()
+    {
+      std::ifstream status("/proc/self/status");
+      std::string   line;
+      while (std::getline(status, line))
+        if (line.rfind("VmHWM:", 0) == 0)
+          return std::stod(line.substr(6)) / 1024.0; // the line reads "VmHWM:   123456 kB"
+      return 0.0;
+    }
     using OP = Belos::OperatorT<MV>;
 
     /// Records GMRES's implicit residual norm after every iteration; never stops the solver.
@@ -154,6 +166,13 @@ namespace multigrid
         report.block_relative_residuals.push_back(b_blocks[k] > 0 ? r_blocks[k] / b_blocks[k] : r_blocks[k]);
       }
     report.relative_residual = std::sqrt(r2) / scale;
+
+    const double mine = peak_resident_mb();
+    double       most = 0, sum = 0;
+    Teuchos::reduceAll(*system.comm(), Teuchos::REDUCE_MAX, mine, Teuchos::outArg(most));
+    Teuchos::reduceAll(*system.comm(), Teuchos::REDUCE_SUM, mine, Teuchos::outArg(sum));
+    report.peak_memory_mb_max  = most;
+    report.peak_memory_mb_mean = sum / report.ranks;
     return report;
   }
 
@@ -191,6 +210,8 @@ namespace multigrid
           << r.block_relative_residuals[k] << "\n";
     out << std::fixed << std::setprecision(3) << "setup seconds       " << p.setup_seconds << "\n"
         << "solve seconds       " << r.solve_seconds << "\n"
+        << std::setprecision(1) << "peak memory per rank max " << r.peak_memory_mb_max << " MB, mean "
+        << r.peak_memory_mb_mean << " MB\n"
         << std::defaultfloat;
   }
 
@@ -213,6 +234,8 @@ namespace multigrid
     s << "],\"setup_seconds\":" << json_number(p.setup_seconds)
       << ",\"solve_seconds\":" << json_number(r.solve_seconds)
       << ",\"operator_complexity\":" << json_number(p.operator_complexity)
+      << ",\"peak_memory_mb_max\":" << json_number(r.peak_memory_mb_max)
+      << ",\"peak_memory_mb_mean\":" << json_number(r.peak_memory_mb_mean)
       << ",\"coarse_solver\":" << json_string(p.coarse_solver) << ",\"levels\":[";
     for (std::size_t l = 0; l < p.levels.size(); ++l)
       {

@@ -36,7 +36,12 @@ namespace multigrid
     PreconditionerInfo       preconditioner;
     long long                global_size = 0;
     int                      ranks       = 1;
-    SolveOptions             options;
+    /// Peak resident memory of the process (VmHWM) after the solve, largest and mean over the
+    /// ranks, in MB: the system, the hierarchy and the Krylov space together (0 where /proc is
+    /// not available).
+    double       peak_memory_mb_max  = 0;
+    double       peak_memory_mb_mean = 0;
+    SolveOptions options;
   };
 
   /// Solves A x = b; x (on the system's full map) is overwritten. Never throws for
