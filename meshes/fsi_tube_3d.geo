@@ -1,8 +1,16 @@
 // Pressure-wave tube (BENCHMARKS.md section 3, Gerbeau-Vidrascu) in CGS units: a straight tube
 // along x of length 5 cm, fluid radius R = 0.5 cm, wall 0.1 cm (outer radius 0.6 cm).
-// The fluid cylinder is an O-grid (a square core and four blocks out to the circle r = R), the
-// wall four blocks of the annulus R < r < R + h; both volumes share the interface surface, so
-// fluid and structure nodes match there. All hexahedra (transfinite + recombined, extruded).
+// The fluid cylinder is an O-grid (a square core, four blocks out to r = R - layer and a thin ring
+// of cells R - layer < r < R at the wall), the wall four blocks of the annulus R < r < R + h; both
+// volumes share the interface surface, so fluid and structure nodes match there. All hexahedra
+// (transfinite + recombined, extruded).
+// Why the thin ring: the fluid sticks to the wall (no slip), so the axial velocity of equal-order
+// Q1 falls to zero across the whole first cell. Without the ring that cell reached from the core
+// to the wall (0.25-0.33 cm of R = 0.5 at refine 1): for a linear profile across it the flow's
+// effective cross-section is about 0.6 A, and the pulse (c ~ sqrt(A_eff / (rho_F A D))) ran 17 %
+// below Moens-Korteweg (12 % with the ring at refine 1, see README). The
+// physical Stokes layer of the pulse is sqrt(nu / omega) ~ 0.005 cm thin; a ring 0.02 / refine cm
+// thick leaves about 1 - layer / R of the cross-section to the flow.
 //   gmsh -3 -setnumber refine N -format msh22 fsi_tube_3d.geo
 //   refine 1: 8 cells around, 20 along; refine 2: 16 around, 40 along; ...
 // Physical ids: volumes 1 fluid, 2 structure; surfaces 1 the inlet plane x = 0 (fluid inlet and
@@ -10,9 +18,10 @@
 // interface r = R is interior to this mesh: the fsi app finds it where the two volumes meet.
 DefineConstant[ refine = 1 ];
 L = 5; R = 0.5; h = 0.1;
+layer = 0.02 / refine; // thickness of the fluid cells at the wall (halves with the rest)
 s = 0.35 * R;          // half side of the core square
 nq = 2 * refine;       // cells per quarter of the circumference (and per side of the core)
-nr = refine;           // cells from the core to the interface
+nr = refine;           // cells from the core to the wall layer
 nw = refine;           // cells through the wall
 nx = 20 * refine;      // cells along the tube
 
@@ -24,16 +33,20 @@ For k In {0 : 3}
   Point(10 + k) = {0, s * Sqrt(2) * Cos(a), s * Sqrt(2) * Sin(a)};
   Point(20 + k) = {0, R * Cos(a), R * Sin(a)};
   Point(30 + k) = {0, (R + h) * Cos(a), (R + h) * Sin(a)};
+  Point(60 + k) = {0, (R - layer) * Cos(a), (R - layer) * Sin(a)};
 EndFor
 For k In {0 : 3}
   k1 = (k + 1) % 4;
   Line(10 + k) = {10 + k, 10 + k1};        // core sides
   Circle(20 + k) = {20 + k, 1, 20 + k1};   // interface arcs
   Circle(30 + k) = {30 + k, 1, 30 + k1};   // outer arcs
-  Line(40 + k) = {10 + k, 20 + k};         // core -> interface
+  Circle(60 + k) = {60 + k, 1, 60 + k1};   // inner circle of the wall layer
+  Line(40 + k) = {10 + k, 60 + k};         // core -> wall layer
+  Line(70 + k) = {60 + k, 20 + k};         // wall layer -> interface
   Line(50 + k) = {20 + k, 30 + k};         // interface -> outer
 EndFor
-Transfinite Curve{10 : 13, 20 : 23, 30 : 33} = nq + 1;
+Transfinite Curve{10 : 13, 20 : 23, 30 : 33, 60 : 63} = nq + 1;
+Transfinite Curve{70 : 73} = 2;
 Transfinite Curve{40 : 43} = nr + 1;
 Transfinite Curve{50 : 53} = nw + 1;
 
@@ -41,13 +54,15 @@ Curve Loop(1) = {10, 11, 12, 13};
 Plane Surface(1) = {1};
 For k In {0 : 3}
   k1 = (k + 1) % 4;
-  Curve Loop(10 + k) = {10 + k, 40 + k1, -(20 + k), -(40 + k)};
+  Curve Loop(10 + k) = {10 + k, 40 + k1, -(60 + k), -(40 + k)};
   Plane Surface(10 + k) = {10 + k};
+  Curve Loop(30 + k) = {60 + k, 70 + k1, -(20 + k), -(70 + k)};
+  Plane Surface(30 + k) = {30 + k};
   Curve Loop(20 + k) = {20 + k, 50 + k1, -(30 + k), -(50 + k)};
   Plane Surface(20 + k) = {20 + k};
 EndFor
-Transfinite Surface{1, 10 : 13, 20 : 23};
-Recombine Surface{1, 10 : 13, 20 : 23};
+Transfinite Surface{1, 10 : 13, 20 : 23, 30 : 33};
+Recombine Surface{1, 10 : 13, 20 : 23, 30 : 33};
 
 // Extrude the cross-section along x; out[0] is the far face, out[1] the volume, out[2..] the sides.
 fluid[] = {};
@@ -61,6 +76,9 @@ For k In {0 : 3}
   ring[] = Extrude {L, 0, 0} { Surface{10 + k}; Layers{nx}; Recombine; };
   fluid += ring[1];
   outlet += ring[0];
+  film[] = Extrude {L, 0, 0} { Surface{30 + k}; Layers{nx}; Recombine; };
+  fluid += film[1];
+  outlet += film[0];
   shell[] = Extrude {L, 0, 0} { Surface{20 + k}; Layers{nx}; Recombine; };
   wall += shell[1];
   outlet += shell[0];
@@ -69,6 +87,6 @@ EndFor
 
 Physical Volume("fluid", 1) = {fluid[]};
 Physical Volume("structure", 2) = {wall[]};
-Physical Surface("inlet", 1) = {1, 10 : 13, 20 : 23};
+Physical Surface("inlet", 1) = {1, 10 : 13, 20 : 23, 30 : 33};
 Physical Surface("outlet", 2) = {outlet[]};
 Physical Surface("outer", 5) = {outer[]};
