@@ -89,6 +89,15 @@ namespace physics::fsi
     index_sets(mesh_dofs_, mesh_owned_, mesh_relevant_);
     index_sets(solid_dofs_, solid_owned_, solid_relevant_);
     solid_owned_per_rank_ = Utilities::MPI::all_gather(comm_, solid_owned_);
+    // The blocks' near-nullspaces and MueLu's node-wise aggregation read a field's DOFs as
+    // nodes of consecutive components (deal.II's numbering of a Q1 system without renumbering).
+    for (const auto& cell : fluid_dofs_.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned v : cell->vertex_indices())
+          for (unsigned c = 0; c <= dim; ++c)
+            if (cell->vertex_dof_index(v, c) != cell->vertex_dof_index(v, 0) + c ||
+                cell->vertex_dof_index(v, 0) % (dim + 1) != 0)
+              throw std::logic_error("fsi: the fluid DOFs are not numbered node by node");
     // Reference coordinates of the owned structure nodes, node-major in DOF order.
     std::map<GlobalIndex, Point<dim>> vertex_of_dof;
     for (const auto& cell : solid_dofs_.active_cell_iterators())
@@ -205,8 +214,6 @@ namespace physics::fsi
         clamped.push_back(sd);
     for (const auto& part : Utilities::MPI::all_gather(comm_, clamped))
       solid_clamped_.insert(part.begin(), part.end());
-    for (const auto& [f, s] : fluid_partner_)
-      interface_velocities_.push_back(f);
     for (const auto& [m, s] : mesh_partner_) // the interface ALE DOFs follow the structure
       {
         removed_mesh_.push_back(m);
@@ -238,11 +245,8 @@ namespace physics::fsi
       }
 
     n_solid_ = solid_dofs_.n_dofs();
-    n_fluid_ = fluid_dofs_.n_dofs() - interface_velocities_.size();
+    n_fluid_ = fluid_dofs_.n_dofs(); // the interface velocities stay as placeholder rows (assemble)
     n_mesh_  = mesh_dofs_.n_dofs() - removed_mesh_.size();
-    for (const auto f : fluid_owned_)
-      if (!is_interface_velocity(f))
-        fluid_inner_owned_.push_back(f);
     for (const auto m : mesh_owned_)
       if (mesh_partner_.count(m) == 0)
         mesh_inner_owned_.push_back(m);
@@ -255,16 +259,14 @@ namespace physics::fsi
     if (g < n_solid_)
       return {0, static_cast<GlobalIndex>(g)};
     if (g < n_solid_ + n_fluid_)
-      return {1, fluid_inner_owned_.at(g - fluid_gid(fluid_inner_owned_.front()))};
+      return {1, static_cast<GlobalIndex>(g - n_solid_)};
     return {2, mesh_inner_owned_.at(g - mesh_gid(mesh_inner_owned_.front()))};
   }
 
   template <int dim>
   GO CondensedFsi<dim>::fluid_gid(GlobalIndex f) const
   {
-    const auto before = std::lower_bound(interface_velocities_.begin(), interface_velocities_.end(), f) -
-                        interface_velocities_.begin();
-    return n_solid_ + static_cast<GO>(f) - before;
+    return n_solid_ + static_cast<GO>(f);
   }
 
   template <int dim>
@@ -362,14 +364,20 @@ namespace physics::fsi
       }
     // Fluid rows: the interface velocity rows go to the matching structure rows, weighted
     // with 1 - af; interface velocity columns become structure columns times tau, interface
-    // ALE columns structure columns, fixed ALE columns are dropped.
+    // ALE columns structure columns, fixed ALE columns are dropped. The condensed interface
+    // velocity keeps its place in the fluid block as a decoupled placeholder row (1 on the
+    // diagonal, no other entry in its row or column, right-hand side 0; update() ignores its
+    // increment): so every fluid node has its dim + 1 DOFs, and the AMG aggregates the fluid
+    // node-wise with the velocity and pressure constants as its near-nullspace.
     for (const auto f : fluid_owned_)
       {
         double scale  = 1.0;
         GO     target = 0;
         if (is_interface_velocity(f))
           {
-            const GlobalIndex sd = fluid_partner_.at(f);
+            rows[fluid_gid(f)][fluid_gid(f)] = 1.0;
+            rhs[fluid_gid(f)]                = 0.0;
+            const GlobalIndex sd             = fluid_partner_.at(f);
             if (!solid_free(sd))
               continue;
             target = sd;
@@ -459,12 +467,13 @@ namespace physics::fsi
     }
     std::vector<multigrid::BlockInfo> blocks(3);
     blocks[0]   = {"structure", dim, n_solid_, 0, {}, {}, {}};
-    blocks[1]   = {"fluid", 1, n_fluid_, 0, {}, {}, {}}; // interface nodes keep only their pressure
+    blocks[1]   = {"fluid", dim + 1, n_fluid_, 0, {}, {}, {}};
     blocks[2]   = {"ale", dim, n_mesh_, 0, {}, {}, {}};
     auto system = multigrid::BlockSystem::from_merged(teuchos_comm(comm_), blocks, block_gids, A, b);
-    // Near-nullspaces: the structure's rigid-body modes, the ALE block's translations (the
-    // fluid block's constants are the BlockSystem's default).
+    // Near-nullspaces: the structure's rigid-body modes, the fluid's constant velocities and
+    // pressure, the ALE block's translations (every block node-major, node-complete per rank).
     system.block(0).nullspace = multigrid::rigid_body_modes(system.block(0).map, dim, solid_coordinates_);
+    system.block(1).nullspace = multigrid::translation_modes(system.block(1).map, dim + 1);
     system.block(2).nullspace = multigrid::translation_modes(system.block(2).map, dim);
     norms                     = system.block_norms(*system.rhs());
     return system;

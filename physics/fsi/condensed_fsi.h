@@ -17,9 +17,12 @@
 //   [ S_GI  S_GG + (1-af)(tau F_GG + F^G_GG)        (1-af) F_GI  (1-af) F^G_GI ] [dd^S_G]
 //   [ 0     tau F_IG + F^G_IG                       F_II         F^G_II   ] [du^F_I]  = -r
 //   [ 0     A_IG                                    0            A_II     ] [dd^G_I]
-// is handed over as a BlockSystem of three blocks (structure, fluid, ALE); the fluid block
-// lists the interface nodes' pressures only, so its DOFs are not node-complete (1 DOF per node
-// in the block description). F^G, the shape derivatives, can be dropped (a parameter).
+// is handed over as a BlockSystem of three blocks (structure, fluid, ALE). The condensed interface
+// velocities keep their places in the fluid block as decoupled placeholder rows (identity, zero
+// right-hand side, their increments ignored), so that the fluid block is node-complete: dim + 1
+// DOFs per node, near-nullspace the constant velocities and pressure, aggregated node-wise by the
+// AMG (with the pressures alone the interface nodes made the block 1 DOF per node, aggregated
+// DOF by DOF with one constant). F^G, the shape derivatives, can be dropped (a parameter).
 //
 // The MPI layout: the fluid and the structure meshes are fully distributed, each partitioned
 // on its own (a rank stores its cells and one ghost layer), and every field keeps deal.II's

@@ -122,13 +122,13 @@ namespace physics::fsi
     /// Interface DOF -> structure DOF, for the whole interface on every rank (interface-sized,
     /// from the all-gather of match_interface; the merged numbering needs every rank's count).
     std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_;
-    std::vector<GlobalIndex>           interface_velocities_, removed_mesh_; ///< sorted, whole interface
+    std::vector<GlobalIndex>           removed_mesh_; ///< interface ALE DOFs, sorted, whole interface
     /// Clamped structure DOFs this rank meets: its locally relevant ones and those of the whole
     /// interface (a fluid rank meets them as partners of its interface DOFs).
     std::set<GlobalIndex>    solid_clamped_;
     std::vector<double>      solid_coordinates_; ///< owned structure nodes, node-major (rigid-body modes)
     std::set<GlobalIndex>    mesh_fixed_;        ///< locally relevant ALE DOFs on the inlet/outlet planes
-    std::vector<GlobalIndex> fluid_inner_owned_, mesh_inner_owned_;   ///< ascending
+    std::vector<GlobalIndex> mesh_inner_owned_;                        ///< ascending
     multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
     // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies; the BDF

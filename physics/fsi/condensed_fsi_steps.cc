@@ -36,6 +36,7 @@ namespace physics::fsi
           const GO g              = map->getGlobalElement(i);
           const auto [field, dof] = field_dof(g);
           const bool fixed        = (field == 0 && solid_constraints_.is_constrained(dof)) ||
+                             (field == 1 && is_interface_velocity(dof)) ||
                              (field == 2 && mesh_fixed_.count(dof) > 0);
           data[i] = fixed ? 0.0 : (field == 1 ? 1.0 : 1e-3) * std::sin(1.3 * g + 0.4);
         }
@@ -90,7 +91,9 @@ namespace physics::fsi
     const auto map  = dx.getMap();
     for (std::size_t i = 0; i < map->getNodeNumElements(); ++i)
       {
-        const auto [field, dof]                                = field_dof(map->getGlobalElement(i));
+        const auto [field, dof] = field_dof(map->getGlobalElement(i));
+        if (field == 1 && is_interface_velocity(dof))
+          continue; // a placeholder row: the interface velocity follows the structure
         (field == 0 ? dd_S_ : field == 1 ? dx_F_ : dd_G_)[dof] = data[i];
       }
     dd_S_.compress(VectorOperation::insert);
@@ -231,7 +234,7 @@ namespace physics::fsi
            << Utilities::MPI::max(solid_tria_.n_active_cells(), comm_)
            << " stored on a rank); Newton system: structure " << n_solid_ << ", fluid " << n_fluid_
            << ", ALE " << n_mesh_ << " DOFs (" << fluid_partner_.size()
-           << " interface velocity DOFs condensed), shape derivatives "
+           << " interface velocity DOFs condensed, placeholder rows in the fluid block), shape derivatives "
            << (p_.shape_derivatives ? "on" : "off") << ", " << Utilities::MPI::n_mpi_processes(comm_)
            << " ranks, preset " << p_.solver.preset << "\n";
     NewtonSettings newton_settings   = p_.solver.newton_settings(field_names());
