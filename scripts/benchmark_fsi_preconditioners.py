@@ -1,18 +1,25 @@
 #!/usr/bin/python3
-"""The n x n block preconditioners on the condensed FSI systems (issue 16, items 2-4): the 2D
-channel of apps/fsi_channel_2d.prm at sizes s (cells 30s x 6s fluid, s per wall; s = 1, 2, 4 give
-1085, 4209, 16577 DOFs), the Newton systems of the first two time steps exported once by the fsi
-app (direct solves), then every preset on the same systems with solve_block_system, GMRES to 1e-6
-(the seeds' tolerance). Prints per preset and size: systems, average / maximum GMRES iterations,
-average setup and solve seconds, operator complexity, and the levels' block sizes
-(structure + fluid + ALE rows per level) of the last system.
+"""The n x n block preconditioners on the condensed FSI systems (issue 16, items 2-4), GMRES to
+1e-6 (the seeds' tolerance), every preset on the same systems with solve_block_system:
+  --case channel  the 2D channel of apps/fsi_channel_2d.prm at sizes s (cells 30s x 6s fluid, s
+                  per wall; s = 1, 2, 4 give 1209, 4453, 17061 DOFs); the Newton systems of the
+                  first two time steps, exported once by the fsi app (direct solves);
+  --case tube     the 3D pressure-wave tube of apps/fsi_tube_3d.prm at gmsh refinement s
+                  (s = 1, 2, 3: 4.2 k, 25 k, 75 k DOFs); the Newton systems of the first two time
+                  steps (the pulse entering the tube), exported by the fsi app solving with
+                  fully-coupled-sa-amg(bgs) (SuperLU: 9.6 s and 0.9 GB per system at s = 2).
+Prints per preset and size: systems, average / maximum GMRES iterations, average setup and solve
+seconds, operator complexity, the solver's peak memory per rank (largest over the ranks and the
+systems; solve_block_system's whole process) and the levels' block sizes (structure + fluid + ALE
+rows per level) of the last system.
 
 Presets (multigrid/presets, with overrides):
   fully-coupled-sa-amg(bgs)      as shipped (max coarse size 6500: a direct solve below that)
   fully-coupled-sa-amg(bgs)/500  the same with max coarse size 500 (multilevel at every size)
   bgs(amg), block-jacobi(amg), direct(superlu)
 
-  scripts/benchmark_fsi_preconditioners.py --build build [--sizes 1 2 4] [--ranks 1] [--json F]
+  scripts/benchmark_fsi_preconditioners.py --build build [--case channel|tube] [--sizes 1 2 4]
+                                           [--ranks 1] [--presets P ...] [--json F]
 Exit status 1 if a solve does not converge.
 """
 import argparse
@@ -37,17 +44,25 @@ def mpi(ranks, cmd):
     return (["mpirun", "-np", str(ranks), "--oversubscribe"] + cmd) if ranks > 1 else cmd
 
 
-def export_systems(build, source, size, ranks, out_root):
-    """The Newton systems of two time steps of the channel at size `size` (sorted directories)."""
-    directory = os.path.join(out_root, f"s{size}")
-    cmd = [os.path.join(build, "apps", "fsi"), os.path.join(source, "apps", "fsi_channel_2d.prm"),
-           "--set", f"Mesh/Cells in x={30 * size}", "--set", f"Mesh/Fluid cells in y={6 * size}",
-           "--set", f"Mesh/Wall cells in y={size}", "--set", "Time/End time=2e-4",
-           "--set", "Output/VTK=false", "--set", "Output/Export systems=true",
-           "--set", f"Output/Directory={directory}"]
+def case_arguments(case, source, size):
+    """The fsi app's parameter file and settings of one size of a case."""
+    if case == "channel":
+        return [os.path.join(source, "apps", "fsi_channel_2d.prm"),
+                "--set", f"Mesh/Cells in x={30 * size}", "--set", f"Mesh/Fluid cells in y={6 * size}",
+                "--set", f"Mesh/Wall cells in y={size}"]
+    return [os.path.join(source, "apps", "fsi_tube_3d.prm"), "--set", f"Mesh/Gmsh refinement={size}",
+            "--set", "Linear solver/Preset=fully-coupled-sa-amg(bgs)"]
+
+
+def export_systems(build, source, case, size, ranks, out_root):
+    """The Newton systems of two time steps of `case` at size `size` (sorted directories)."""
+    directory = os.path.join(out_root, f"{case}{size}")
+    cmd = ([os.path.join(build, "apps", "fsi")] + case_arguments(case, source, size) +
+           ["--set", "Time/End time=2e-4", "--set", "Output/VTK=false", "--set", "Output/Export systems=true",
+            "--set", f"Output/Directory={directory}"])
     proc = subprocess.run(mpi(ranks, cmd), capture_output=True, text=True, env=ENV)
     if proc.returncode != 0:
-        raise RuntimeError(f"fsi at size {size} failed (exit {proc.returncode}): {proc.stderr.strip()[-300:]}")
+        raise RuntimeError(f"fsi ({case}) at size {size} failed (exit {proc.returncode}): {proc.stderr.strip()[-300:]}")
     systems = os.path.join(directory, "systems")
     return sorted(os.path.join(systems, d) for d in os.listdir(systems))
 
@@ -71,30 +86,35 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
     ap.add_argument("--source", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4])
+    ap.add_argument("--case", choices=["channel", "tube"], default="channel",
+                    help="the 2D channel (sizes 1 2 4) or the 3D pressure-wave tube (refinements 1 2 3)")
+    ap.add_argument("--sizes", type=int, nargs="+", help="default: 1 2 4 (channel), 1 2 3 (tube)")
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--presets", nargs="+", default=list(PRESETS))
     ap.add_argument("--out", default="output/fsi_preconditioners")
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
+    if args.sizes is None:
+        args.sizes = [1, 2, 4] if args.case == "channel" else [1, 2, 3]
     os.makedirs(args.out, exist_ok=True)
     results, ok = [], True
     print(f"{'preset':30} {'s':>2} {'DOFs':>6} {'sys':>3} {'GMRES avg':>9} {'max':>4} {'setup s':>8} "
-          f"{'solve s':>8} {'op.cx':>5}  levels (structure + fluid + ALE rows)")
+          f"{'solve s':>8} {'op.cx':>5} {'MB/rank':>7}  levels (structure + fluid + ALE rows)")
     for size in args.sizes:
-        systems = export_systems(args.build, args.source, size, args.ranks, args.out)
+        systems = export_systems(args.build, args.source, args.case, size, args.ranks, args.out)
         for name in args.presets:
             runs = [solve(args.build, args.ranks, s, name, args.out) for s in systems]
             good = [r for r in runs if r.get("converged")]
             converged = len(good) == len(runs)
             ok = ok and converged
             its = [r["iterations"] for r in good]
-            row = {"preset": name, "size": size, "ranks": args.ranks, "systems": len(runs),
+            row = {"case": args.case, "preset": name, "size": size, "ranks": args.ranks, "systems": len(runs),
                    "converged": converged, "dofs": good[0]["global_size"] if good else None,
                    "avg": sum(its) / len(its) if its else None, "max": max(its) if its else None,
                    "setup": sum(r["setup_seconds"] for r in good) / max(len(good), 1),
                    "solve": sum(r["solve_seconds"] for r in good) / max(len(good), 1),
                    "operator_complexity": max((r["operator_complexity"] for r in good), default=None),
+                   "peak_memory_mb_max": max((r.get("peak_memory_mb_max", 0) for r in good), default=None),
                    "levels": [lv["block_rows"] for lv in good[-1]["levels"]] if good else [],
                    "errors": [r["error"] for r in runs if "error" in r]}
             results.append(row)
@@ -102,7 +122,8 @@ def main():
             avg = f"{row['avg']:9.1f}" if row["avg"] is not None else f"{'-':>9}"
             status = "" if converged else f"  NOT converged: {row['errors'][:1]}"
             print(f"{name:30} {size:2d} {row['dofs'] or 0:6d} {len(runs):3d} {avg} {row['max'] or 0:4d} "
-                  f"{row['setup']:8.3f} {row['solve']:8.3f} {row['operator_complexity'] or 0:5.2f}  {levels}{status}",
+                  f"{row['setup']:8.3f} {row['solve']:8.3f} {row['operator_complexity'] or 0:5.2f} "
+                  f"{row['peak_memory_mb_max'] or 0:7.0f}  {levels}{status}",
                   flush=True)
     if args.json:
         write_json_atomically(args.json, results)
