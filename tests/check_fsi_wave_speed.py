@@ -12,7 +12,6 @@ fits it worse and slower. Exit status 0 if so, 1 otherwise.
   check_fsi_wave_speed.py --work DIR
 """
 import argparse
-import importlib.util
 import math
 import os
 import re
