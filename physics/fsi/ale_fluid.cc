@@ -18,14 +18,15 @@ namespace physics::fsi
 {
   using namespace dealii;
 
-  BdfWeights BdfWeights::of(FluidTimeScheme scheme)
+  BdfWeights BdfWeights::of(FluidTimeScheme scheme, double step_ratio)
   {
+    const double w = step_ratio;
     switch (scheme)
       {
       case FluidTimeScheme::bdf1:
         return {1.0, -1.0, 0.0};
       case FluidTimeScheme::bdf2:
-        return {1.5, -2.0, 0.5};
+        return {(1 + 2 * w) / (1 + w), -(1 + w), w * w / (1 + w)};
       default:
         return {};
       }
@@ -343,7 +344,7 @@ namespace physics::fsi
     if (shape_derivative != nullptr && (!moving || mesh_constraints == nullptr))
       throw std::invalid_argument(
           "assemble_ale_fluid: shape derivatives need the mesh DoFHandler, state and constraints");
-    const BdfWeights bdf = BdfWeights::of(model.scheme);
+    const BdfWeights bdf = BdfWeights::of(model.scheme, model.step_ratio());
 
     const QGauss<dim>     quadrature(2);
     const QGauss<dim - 1> face_quadrature(2);

@@ -49,11 +49,14 @@ namespace physics::fsi
     bdf2
   };
 
-  /// Weights of du/dt ~ (a0 x_{n+1} + a1 x_n + a2 x_{n-1}) / dt (all zero when steady).
+  /// Weights of du/dt ~ (a0 x_{n+1} + a1 x_n + a2 x_{n-1}) / dt (all zero when steady), dt the
+  /// step t_{n+1} - t_n. BDF2 on unequal steps (after a step cut, or when the step grows back):
+  /// with w = dt / dt_prev the interpolating parabola through the three states gives
+  /// a0 = (1 + 2w) / (1 + w), a1 = -(1 + w), a2 = w^2 / (1 + w) (3/2, -2, 1/2 for w = 1).
   struct BdfWeights
   {
     double            a0 = 0, a1 = 0, a2 = 0;
-    static BdfWeights of(FluidTimeScheme scheme);
+    static BdfWeights of(FluidTimeScheme scheme, double step_ratio = 1.0);
   };
 
   struct FluidProperties
@@ -82,9 +85,12 @@ namespace physics::fsi
   template <int dim>
   struct FluidModel
   {
-    FluidProperties              properties;
-    FluidTimeScheme              scheme     = FluidTimeScheme::steady;
-    double                       time_step  = 1.0;     ///< dt (> 0 unless steady)
+    FluidProperties properties;
+    FluidTimeScheme scheme             = FluidTimeScheme::steady;
+    double          time_step          = 1.0; ///< dt (> 0 unless steady)
+    double          previous_time_step = 0;   ///< the step before (BDF2 on unequal steps); 0: dt
+    /// dt / dt_prev (1 when the previous step is not known).
+    double step_ratio() const { return previous_time_step > 0 ? time_step / previous_time_step : 1.0; }
     const dealii::Function<dim>* body_force = nullptr; ///< f (dim components, current x), null: none
     /// Prescribed pressure P per boundary id (traction -P n on the current boundary).
     std::map<dealii::types::boundary_id, double> boundary_pressures;

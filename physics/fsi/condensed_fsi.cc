@@ -284,7 +284,7 @@ namespace physics::fsi
     // (BDF: (a0 d_{n+1} + a1 d_n + a2 d_{n-1}) / dt), the stencil of the grid velocity: the
     // fluid on the wall moves with the mesh (no flow through the moving wall), so that
     // inflow - outflow = volume change holds for the discrete fluid (record_step logs it).
-    const BdfWeights              bdf = BdfWeights::of(fluid_model_.scheme);
+    const BdfWeights              bdf = BdfWeights::of(fluid_model_.scheme, fluid_model_.step_ratio());
     const double                  dt  = dynamics_->scheme().time_step();
     TrilinosWrappers::MPI::Vector v(d_S_);
     v *= bdf.a0 / dt;
@@ -327,10 +327,10 @@ namespace physics::fsi
   template <int dim>
   multigrid::BlockSystem CondensedFsi<dim>::assemble(std::vector<double>& norms)
   {
-    const double w  = dynamics_->scheme().force_weight(); // 1 - af
-    const double af = 1.0 - w;
-    const double tau =
-        BdfWeights::of(fluid_model_.scheme).a0 / dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
+    const double w   = dynamics_->scheme().force_weight(); // 1 - af
+    const double af  = 1.0 - w;
+    const double tau = BdfWeights::of(fluid_model_.scheme, fluid_model_.step_ratio()).a0 /
+                       dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
 
     // Structure: w r(d) + c_m M d + h_n, its Jacobian w K + c_m M.
     TrilinosWrappers::MPI::Vector r_S(solid_owned_, comm_), R_F, R_G(mesh_owned_, comm_);

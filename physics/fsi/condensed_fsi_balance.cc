@@ -93,7 +93,7 @@ namespace physics::fsi
 
     const FluidBalance b        = fluid_balance();
     const double       dt       = fluid_model_.time_step;
-    const BdfWeights   bdf      = BdfWeights::of(fluid_model_.scheme);
+    const BdfWeights   bdf      = BdfWeights::of(fluid_model_.scheme, fluid_model_.step_ratio());
     const double       change   = bdf.a0 * b.volume + bdf.a1 * volume_old_ + bdf.a2 * volume_older_;
     const double       net      = dt * (b.inflow - b.outflow);
     const double       balance  = change - net;
@@ -155,6 +155,7 @@ namespace physics::fsi
     c.set("fsi/steps_done", steps_done_);
     c.set("fsi/max_wall_displacement", max_wall_displacement_);
     c.set("fsi/volumes", std::vector<double>{volume_old_, volume_older_});
+    c.set("fsi/last_time_step", last_time_step_);
     c.set("fsi/max_mass_imbalance", max_mass_imbalance_);
     c.set_text("fsi/fluid_vtk", fluid_vtk_->entries());
     c.set_text("fsi/solid_vtk", solid_vtk_->entries());
@@ -181,6 +182,7 @@ namespace physics::fsi
     const auto& volumes    = c.numbers("fsi/volumes");
     volume_old_            = volumes.at(0);
     volume_older_          = volumes.at(1);
+    last_time_step_        = c.number("fsi/last_time_step");
     max_mass_imbalance_    = c.number("fsi/max_mass_imbalance");
     fluid_vtk_->restore(c.text("fsi/fluid_vtk"));
     solid_vtk_->restore(c.text("fsi/solid_vtk"));

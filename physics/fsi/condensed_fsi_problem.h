@@ -128,7 +128,7 @@ namespace physics::fsi
     std::set<GlobalIndex>    solid_clamped_;
     std::vector<double>      solid_coordinates_; ///< owned structure nodes, node-major (rigid-body modes)
     std::set<GlobalIndex>    mesh_fixed_;        ///< locally relevant ALE DOFs on the inlet/outlet planes
-    std::vector<GlobalIndex> mesh_inner_owned_;                        ///< ascending
+    std::vector<GlobalIndex> mesh_inner_owned_;                      ///< ascending
     multigrid::GO            n_solid_ = 0, n_fluid_ = 0, n_mesh_ = 0; ///< merged block sizes
 
     // State: structure d^S, fluid (u, p), ALE d^G (owned) and their ghosted copies; the BDF
@@ -141,6 +141,7 @@ namespace physics::fsi
     dealii::TrilinosWrappers::MPI::Vector d_S_begin_, x_F_begin_, d_G_begin_, dd_S_, dx_F_, dd_G_;
     double                                update_length_ = 1;
     int                                   steps_done_    = 0;
+    double                                last_time_step_ = 0; ///< the last accepted step (0 before the first)
     multigrid::BlockSystem                system_;
     JsonLinesLog                          log_;
     std::unique_ptr<VtkSeries>            fluid_vtk_, solid_vtk_;

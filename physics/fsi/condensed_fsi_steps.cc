@@ -123,7 +123,8 @@ namespace physics::fsi
     dynamics_->set_time_step(step);
     dynamics_->begin_step(d_S_, solid_constraints_);
     d_S_old_               = d_S_;
-    fluid_model_.time_step = step;
+    fluid_model_.time_step          = step;
+    fluid_model_.previous_time_step = last_time_step_; // BDF2's weights on unequal steps
     fluid_model_.boundary_pressures[boundary::inlet] =
         time <= p_.pulse_duration * (1 + 1e-12) ? p_.inlet_pressure : 0.0;
     sync_interface(); // the constant-displacement predictor's interface velocity
@@ -157,6 +158,7 @@ namespace physics::fsi
     x_F_old_   = x_F_;
     d_G_older_ = d_G_old_;
     d_G_old_   = d_G_;
+    last_time_step_ = fluid_model_.time_step; // BDF2's previous step in the next begin_step
     ++steps_done_;
     record_step(number, time);
   }

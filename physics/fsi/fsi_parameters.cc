@@ -62,8 +62,8 @@ namespace physics::fsi
     prm.declare_entry(
         "Fluid scheme", "BDF1", dealii::Patterns::Selection("BDF1|BDF2"),
         "Time derivative of the fluid, the grid velocity and the interface velocity: backward Euler "
-        "or BDF2 (second order, equal steps assumed; the first step takes the rest state as both earlier "
-        "states).");
+        "or BDF2 (second order, with the weights of unequal steps after a step cut; the first step takes "
+        "the rest state as both earlier states).");
     prm.declare_entry(
         "Spectral radius", "1", Double(0, 1),
         "rho_inf of the structure's generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
