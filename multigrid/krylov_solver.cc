@@ -29,8 +29,11 @@ namespace multigrid
   namespace
   {
     using MV = MultiVector;
+    using OP = Belos::OperatorT<MV>;
 
     /// VmHWM of /proc/self/status in MB (the process's peak resident set); 0 if unreadable.
+    /// (The multigrid layer does not see deal.II's Utilities::System::get_memory_stats, which
+    /// the physics layer uses for the same number.)
     double peak_resident_mb()
     {
       std::ifstream status("/proc/self/status");
@@ -40,7 +43,6 @@ namespace multigrid
           return std::stod(line.substr(6)) / 1024.0; // the line reads "VmHWM:   123456 kB"
       return 0.0;
     }
-    using OP = Belos::OperatorT<MV>;
 
     /// Records GMRES's implicit residual norm after every iteration; never stops the solver.
     class ResidualHistory : public Belos::StatusTest<SC, MV, OP>
