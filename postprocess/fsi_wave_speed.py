@@ -201,6 +201,10 @@ def main():
     if args.until is not None:
         kept = [n for n, t in enumerate(times) if t <= args.until * (1 + 1e-12)]
         times, rows = [times[n] for n in kept], [rows[n] for n in kept]
+        if len(times) < 3:
+            print(f"fsi_wave_speed.py: --until {args.until} keeps {len(times)} time steps of the record, "
+                  "expected at least 3", file=sys.stderr)
+            return 2
     used = [k for k, x in enumerate(stations) if args.x_from - 1e-9 <= x <= args.x_to + 1e-9]
     if len(used) < 2:
         print(f"fsi_wave_speed.py: fewer than 2 stations in [{args.x_from}, {args.x_to}] "

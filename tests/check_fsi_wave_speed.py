@@ -3,7 +3,7 @@
 d(x, t) = h (1 + tanh((c t - x) / w)) / 2 travelling at c = 500 (stations every 0.25, steps of
 1e-4 as the tube writes them) must come out at c to 1 % by both arrival times, the Moens-Korteweg
 verdict must pass a tolerance the speed meets and fail one it does not, and a missing file must
-give exit status 2. The fitted long-wave speed: a Gaussian pulse in a thin tube (kR ~ 0, no
+give exit status 2, as must an --until that keeps fewer than 3 steps. The fitted long-wave speed: a Gaussian pulse in a thin tube (kR ~ 0, no
 dispersion) must give c0 to 0.5 % by the fit and the pure delay alike, and fail a 5 % verdict
 against 1.1 c0; the same pulse dispersed by a tube of R = 0.5 (built here by a Fourier integral,
 k(omega) by bisection on the Bessel series) must give c0 to 0.5 % by the fit, while a pure delay
@@ -128,6 +128,9 @@ def main():
     if status != 1:
         failures.append(f"a speed 10 % off Moens-Korteweg passed a 5 % tolerance (exit {status}): {out}")
     failures += fit_failures(args.work, c)
+    status, out = tool(args.work, "--until", "1e-4")
+    if status != 2 or "expected at least 3" not in out or "Traceback" in out:
+        failures.append(f"--until before the third step gave exit {status}, expected a one-line error and 2: {out}")
     status, out = tool(os.path.join(args.work, "missing"))
     if status != 2:
         failures.append(f"a missing profile gave exit {status}, expected 2: {out}")
