@@ -1,14 +1,14 @@
 // The mortar integration kernel on its own: biorthogonality of the dual shape functions, the
 // partition-of-unity property sum_l M_jl = sum_k D_jk on covered faces, exact areas of
 // partial overlaps, and the AD linearization against central finite differences.
-#include "contact/mortar_integration.h"
+#include "common/mortar_integration.h"
 
 #include <Sacado.hpp>
 #include <gtest/gtest.h>
 
 #include <random>
 
-using namespace physics::contact;
+using namespace physics::mortar;
 using AD = Sacado::Fad::DFad<double>;
 
 namespace

@@ -4,7 +4,7 @@
 #include "contact/mortar_contact.h"
 
 #include "common/row_exchange.h"
-#include "contact/mortar_integration.h"
+#include "common/mortar_integration.h"
 #include "contact/self_contact.h"
 
 #include <deal.II/base/mpi.h>
@@ -19,6 +19,7 @@
 
 namespace physics::contact
 {
+  using namespace physics::mortar; // the mortar integration shared with the FSI class (common/)
   namespace
   {
     /// The contact faces of this rank's own and ghost cells, flattened (for an all-gather of the

@@ -23,12 +23,13 @@
 // mu = 0 gives lambda_tau = 0, the frictionless rows.
 #pragma once
 
-#include "contact/mortar_integration.h"
+#include "common/mortar_integration.h"
 
 #include <array>
 
 namespace physics::contact
 {
+  using namespace physics::mortar; // the mortar integration shared with the FSI class (common/)
   struct FrictionLaw
   {
     double coefficient = 0.0; ///< mu >= 0

@@ -1,7 +1,7 @@
 #include "contact/mortar_contact.h"
 
 #include "common/row_exchange.h"
-#include "contact/mortar_integration.h"
+#include "common/mortar_integration.h"
 
 #include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
@@ -17,6 +17,7 @@
 
 namespace physics::contact
 {
+  using namespace physics::mortar; // the mortar integration shared with the FSI class (common/)
   using AD = Sacado::Fad::DFad<double>;
 
   namespace

@@ -1,7 +1,7 @@
 // Dual/standard mortar contact, frictionless or with Coulomb friction (coulomb_friction.h), with a
 // semi-smooth Newton method (CONTACT.md):
 // the contact surfaces of a deal.II mesh, the mortar matrices D and M with their exact
-// linearization (Sacado forward AD through mortar_integration.h), nodal normals, weighted gaps,
+// linearization (Sacado forward AD through common/mortar_integration.h), nodal normals, weighted gaps,
 // the active set and the contact rows and columns of the Newton system.
 //
 // Conventions (checked by the patch tests in tests/test_contact.cc):

@@ -30,7 +30,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace physics::contact
+namespace physics::mortar
 {
   template <typename T, int dim>
   using Point = std::array<T, dim>;
@@ -542,4 +542,4 @@ namespace physics::contact
       }
     return frame;
   }
-} // namespace physics::contact
+} // namespace physics::mortar
