@@ -7,7 +7,11 @@
   --case tube     the 3D pressure-wave tube of apps/fsi_tube_3d.prm at gmsh refinement s
                   (s = 1, 2, 3: 4.2 k, 25 k, 75 k DOFs); the Newton systems of the first two time
                   steps (the pulse entering the tube), exported by the fsi app solving with
-                  fully-coupled-sa-amg(bgs) (SuperLU: 9.6 s and 0.9 GB per system at s = 2).
+                  fully-coupled-sa-amg(bgs) (SuperLU: 9.6 s and 0.9 GB per system at s = 2);
+  --case turek-hron  the Turek-Hron FSI1 channel of apps/fsi_turek_hron.prm at gmsh refinement s
+                  (s = 1, 2, 3); the Newton systems of its first two (pseudo-)time steps: from rest
+                  to the full inflow, then toward the steady state (dt = 5 s), exported by the fsi
+                  app solving with fully-coupled-sa-amg(bgs).
 Prints per preset and size: systems, average / maximum GMRES iterations, average setup and solve
 seconds, operator complexity, the solver's peak memory per rank (largest over the ranks and the
 systems; solve_block_system's whole process) and the levels' block sizes (structure + fluid + ALE
@@ -18,7 +22,7 @@ Presets (multigrid/presets, with overrides):
   fully-coupled-sa-amg(bgs)/500  the same with max coarse size 500 (multilevel at every size)
   bgs(amg), block-jacobi(amg), direct(superlu)
 
-  scripts/benchmark_fsi_preconditioners.py --build build [--case channel|tube] [--sizes 1 2 4]
+  scripts/benchmark_fsi_preconditioners.py --build build [--case channel|tube|turek-hron] [--sizes 1 2 4]
                                            [--ranks 1] [--presets P ...] [--json F]
 Exit status 1 if a solve does not converge.
 """
@@ -50,15 +54,21 @@ def case_arguments(case, source, size):
         return [os.path.join(source, "apps", "fsi_channel_2d.prm"),
                 "--set", f"Mesh/Cells in x={30 * size}", "--set", f"Mesh/Fluid cells in y={6 * size}",
                 "--set", f"Mesh/Wall cells in y={size}"]
-    return [os.path.join(source, "apps", "fsi_tube_3d.prm"), "--set", f"Mesh/Gmsh refinement={size}",
+    prm = "fsi_tube_3d.prm" if case == "tube" else "fsi_turek_hron.prm"
+    return [os.path.join(source, "apps", prm), "--set", f"Mesh/Gmsh refinement={size}",
             "--set", "Linear solver/Preset=fully-coupled-sa-amg(bgs)"]
+
+
+# Two time steps of each case.
+END_TIME = {"channel": "2e-4", "tube": "2e-4", "turek-hron": "10"}
 
 
 def export_systems(build, source, case, size, ranks, out_root):
     """The Newton systems of two time steps of `case` at size `size` (sorted directories)."""
     directory = os.path.join(out_root, f"{case}{size}")
     cmd = ([os.path.join(build, "apps", "fsi")] + case_arguments(case, source, size) +
-           ["--set", "Time/End time=2e-4", "--set", "Output/VTK=false", "--set", "Output/Export systems=true",
+           ["--set", f"Time/End time={END_TIME[case]}", "--set", "Output/VTK=false",
+            "--set", "Output/Export systems=true",
             "--set", f"Output/Directory={directory}"])
     proc = subprocess.run(mpi(ranks, cmd), capture_output=True, text=True, env=ENV)
     if proc.returncode != 0:
@@ -86,9 +96,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
     ap.add_argument("--source", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    ap.add_argument("--case", choices=["channel", "tube"], default="channel",
-                    help="the 2D channel (sizes 1 2 4) or the 3D pressure-wave tube (refinements 1 2 3)")
-    ap.add_argument("--sizes", type=int, nargs="+", help="default: 1 2 4 (channel), 1 2 3 (tube)")
+    ap.add_argument("--case", choices=["channel", "tube", "turek-hron"], default="channel",
+                    help="the 2D channel (sizes 1 2 4), the 3D pressure-wave tube or the Turek-Hron channel "
+                         "(refinements 1 2 3)")
+    ap.add_argument("--sizes", type=int, nargs="+", help="default: 1 2 4 (channel), 1 2 3 (tube, turek-hron)")
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--presets", nargs="+", default=list(PRESETS))
     ap.add_argument("--out", default="output/fsi_preconditioners")

@@ -48,8 +48,10 @@ namespace physics::fsi
 {
   /// The case: the generated 2D channel between two elastic walls (apps/fsi_channel_2d.prm):
   /// fluid in [0, L] x [0, H], walls [0, L] x [-t, 0] and [0, L] x [H, H + t], or a gmsh mesh of
-  /// fluid and structure (the 3D tube, apps/fsi_tube_3d.prm; fsi_meshes.h): walls clamped on the
-  /// inlet and outlet planes, a pressure pulse on the inlet, the outlet traction-free.
+  /// fluid and structure (the 3D tube, apps/fsi_tube_3d.prm; the Turek-Hron channel,
+  /// apps/fsi_turek_hron.prm; fsi_meshes.h): structures clamped on the inlet and outlet planes and
+  /// on rigid walls and obstacles, a pressure pulse or a parabolic velocity on the inlet, the
+  /// outlet traction-free, no-slip on rigid walls and obstacles.
   /// Mesh file, Material (the walls) and Output come from the common sections.
   struct FsiParameters : MeshParameters, MaterialParameters, OutputParameters
   {
@@ -63,6 +65,7 @@ namespace physics::fsi
     // The generated channel (matching nodes on the interface)
     double length = 6.0, height = 1.0, wall_thickness = 0.1; // cm
     int    cells_x = 30, cells_fluid_y = 6, cells_wall_y = 1;
+    int    cells_wall_x = 0; ///< 0: cells_x (matching interface nodes)
     // Fluid
     double fluid_density = 1.0, fluid_viscosity = 0.03; // g/cm^3, P (CGS)
     // Structure: generalized-alpha
@@ -71,8 +74,12 @@ namespace physics::fsi
     double ale_poisson_ratio = 0.3, ale_stiffening = 1.0;
     // Load and time
     double inlet_pressure = 1.3332e4, pulse_duration = 3e-3, time_step = 1e-4, end_time = 1e-3;
+    bool   parabolic_inflow     = false; ///< a parabolic inflow velocity instead of the pressure pulse
+    double mean_inflow_velocity = 0.2, inflow_ramp_time = 0;
+    std::vector<double> monitor_point; ///< a structure node's reference position (empty: none)
     bool   fluid_bdf2        = false; ///< the fluid's (and the interface velocity's) BDF2 instead of BDF1
     bool   shape_derivatives = true;
+    bool   dual_mortar       = false; ///< the interface by dual mortar (non-matching meshes)
     bool   check_jacobian    = false; ///< testing: J v against central differences in step 2
     // Newton and linear solver
     SolverParameters solver{1e-6, 1e-10, 15, "direct(superlu)", {}, 1e-8, 500, 200};
@@ -81,6 +88,8 @@ namespace physics::fsi
     static void                     declare(dealii::ParameterHandler& prm);
     /// Reads and checks every value; throws std::invalid_argument "parameter 'X' (Section): ...".
     void parse(dealii::ParameterHandler& prm);
+    /// "x, y[, z]" (or blanks between) with `dim` numbers (empty text: none); throws naming 'Monitor point'.
+    static std::vector<double> parse_point(const std::string& text, int dim);
   };
 
   struct FsiRunSummary : RunSummary
@@ -91,8 +100,11 @@ namespace physics::fsi
     /// At the end: ||d^S||_2 and max |d^S_i| (structure), ||d^G||_2 (ALE), ||(u, p)||_2 (fluid);
     /// norms of the global vectors, independent of the numbering and the partition.
     double structure_l2 = 0, structure_max = 0, ale_l2 = 0, fluid_l2 = 0;
-    /// The largest |dV - dt (Q_in - Q_out)| / (dt Q_in) over the steps with the inlet pressure on.
+    /// The largest |dV - dt (Q_in - Q_out)| / (dt Q_in) over the steps with inflow.
     double max_mass_imbalance = 0;
+    /// At the end, with a rigid obstacle: the fluid's force on obstacle and structure (drag, lift
+    /// [, z]); with a monitor point: its displacement. Empty otherwise.
+    std::vector<double> obstacle_force, monitor_displacement;
   };
 
   FsiRunSummary run_condensed_fsi(const FsiParameters& parameters, MPI_Comm comm);

@@ -100,7 +100,7 @@ namespace physics::fsi
     const double       relative = std::abs(balance) / std::max(std::abs(dt * b.inflow), 1e-300);
     volume_older_               = volume_old_;
     volume_old_                 = b.volume;
-    if (fluid_model_.boundary_pressures.at(boundary::inlet) != 0)
+    if (p_.parabolic_inflow || fluid_model_.boundary_pressures.at(boundary::inlet) != 0)
       max_mass_imbalance_ = std::max(max_mass_imbalance_, relative);
     JsonLinesLog::Line line;
     line.add("event", std::string("fluid_balance"))
@@ -146,6 +146,14 @@ namespace physics::fsi
   }
 
   template <int dim>
+  std::vector<std::tuple<std::string, std::string, std::ofstream CondensedFsi<dim>::*>>
+  CondensedFsi<dim>::csv_files()
+  {
+    return {{"fsi/wall_csv", "wall_displacement.csv", &CondensedFsi::wall_csv_},
+            {"fsi/forces_csv", "forces.csv", &CondensedFsi::forces_csv_}};
+  }
+
+  template <int dim>
   void CondensedFsi<dim>::save_state(Checkpoint& c) const
   {
     for (const auto& [name, v] : state_vectors())
@@ -159,15 +167,21 @@ namespace physics::fsi
     c.set("fsi/max_mass_imbalance", max_mass_imbalance_);
     c.set_text("fsi/fluid_vtk", fluid_vtk_->entries());
     c.set_text("fsi/solid_vtk", solid_vtk_->entries());
-    std::string csv;
-    if (rank_ == 0)
+    c.set("fsi/obstacle_force", last_force_);
+    c.set("fsi/monitor_displacement", last_monitor_);
+    // The CSV files as they are (rank 0 writes them; empty where a file is not written).
+    for (const auto& [key, file, stream] : csv_files())
       {
-        std::ifstream      in(p_.output_directory + "/wall_displacement.csv");
-        std::ostringstream text;
-        text << in.rdbuf();
-        csv = text.str();
+        std::string csv;
+        if (rank_ == 0 && (this->*stream).is_open())
+          {
+            std::ifstream      in(p_.output_directory + "/" + file);
+            std::ostringstream text;
+            text << in.rdbuf();
+            csv = text.str();
+          }
+        c.set_text(key, csv);
       }
-    c.set_text("fsi/wall_csv", csv);
   }
 
   template <int dim>
@@ -186,14 +200,17 @@ namespace physics::fsi
     max_mass_imbalance_    = c.number("fsi/max_mass_imbalance");
     fluid_vtk_->restore(c.text("fsi/fluid_vtk"));
     solid_vtk_->restore(c.text("fsi/solid_vtk"));
-    if (rank_ == 0)
-      {
-        // The wall profile as it was at the checkpoint, continued from there.
-        wall_csv_.close();
-        const std::string file = p_.output_directory + "/wall_displacement.csv";
-        write_atomically(file, [&](std::ostream& out) { out << c.text("fsi/wall_csv"); });
-        wall_csv_.open(file, std::ios::app);
-      }
+    last_force_   = c.numbers("fsi/obstacle_force");
+    last_monitor_ = c.numbers("fsi/monitor_displacement");
+    // The CSV files this run writes, as they were at the checkpoint, continued from there.
+    for (const auto& [key, file, stream] : csv_files())
+      if (rank_ == 0 && (this->*stream).is_open())
+        {
+          (this->*stream).close();
+          const std::string path = p_.output_directory + "/" + file;
+          write_atomically(path, [&, key = key](std::ostream& out) { out << c.text(key); });
+          (this->*stream).open(path, std::ios::app);
+        }
     // The ghosted copies (the interface velocities follow in the next begin_step).
     d_S_ghosted_ = d_S_;
     x_F_ghosted_ = x_F_;
@@ -208,6 +225,8 @@ namespace physics::fsi
   template std::string         CondensedFsi<dim>::checkpoint_kind() const;                     \
   template std::vector<std::pair<const char*, TrilinosWrappers::MPI::Vector CondensedFsi<dim>::*>>       \
   CondensedFsi<dim>::state_vectors();                                                          \
+  template std::vector<std::tuple<std::string, std::string, std::ofstream CondensedFsi<dim>::*>>         \
+  CondensedFsi<dim>::csv_files();                                                              \
   template void                CondensedFsi<dim>::save_state(Checkpoint&) const;               \
   template void                CondensedFsi<dim>::load_state(const Checkpoint&);
   PHYSICS_FSI_BALANCE_MEMBERS(2)

@@ -14,6 +14,7 @@
 #include "fsi/ale_mesh_motion.h"
 #include "fsi/condensed_fsi.h"
 #include "fsi/fsi_meshes.h"
+#include "fsi/interface_nodes.h"
 
 #include "block_system.h"
 
@@ -31,6 +32,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -62,6 +64,8 @@ namespace physics::fsi
     void        load_state(const Checkpoint& checkpoint) override;
     /// The state vectors a checkpoint holds (the fields at t_{n+1}, t_n, t_{n-1}), by name.
     static std::vector<std::pair<const char*, dealii::TrilinosWrappers::MPI::Vector CondensedFsi::*>> state_vectors();
+    /// The CSV files rank 0 appends to per step: checkpoint key, file name, stream.
+    static std::vector<std::tuple<std::string, std::string, std::ofstream CondensedFsi::*>> csv_files();
 
   private:
     void make_meshes();
@@ -69,15 +73,31 @@ namespace physics::fsi
     /// Clamped structure DOFs and ALE DOFs fixed on the inlet/outlet planes, from owned-DOF
     /// constraints made consistent across ranks (common/distributed_mesh.h).
     void make_boundary_constraints();
-    /// The interface maps: fluid velocity DOF -> structure DOF, ALE DOF -> structure DOF, and
+    /// The fluid's Dirichlet velocities (homogeneous, for the Newton increment): no-slip on rigid
+    /// walls and obstacles, the inlet with a prescribed inflow.
+    void make_fluid_constraints();
+    /// The inflow profile at full inflow on the owned inlet velocity DOFs, the fluid DOFs whose
+    /// residual is the force on obstacle and structure, the monitor point's structure DOFs
+    /// (condensed_fsi_forces.cc).
+    void setup_inflow_and_monitors();
+    /// The parabolic inflow at `time` (ramp included) into the iterate's inlet velocities.
+    void apply_inflow(double time);
+    /// Logs the fluid's force on obstacle and structure and the monitor point's displacement
+    /// (event "obstacle_forces"), appends them to forces.csv.
+    void record_forces(int number, double time);
+    std::string forces_csv_header() const;
+    /// The interface maps: fluid velocity DOF -> structure DOFs, ALE DOF -> structure DOFs (weights
+    /// of P: matching nodes or dual mortar), and
     /// the numbering of the merged system (structure, fluid without the interface velocities,
     /// inner ALE DOFs). From an all-gather of the interface nodes each rank owns.
     void match_interface();
     /// The fluid interface velocities and ALE interface displacements from the structure.
     void sync_interface();
-    /// R^F (and its Jacobian and shape derivative) at the current state.
+    /// R^F (and its Jacobian and shape derivative) at the current state, through `constraints`
+    /// (null: the fluid's Dirichlet constraints).
     void assemble_fluid(dealii::TrilinosWrappers::MPI::Vector& R, dealii::TrilinosWrappers::SparseMatrix* K,
-                        dealii::TrilinosWrappers::SparseMatrix* S);
+                        dealii::TrilinosWrappers::SparseMatrix*  S,
+                        const dealii::AffineConstraints<double>* constraints = nullptr);
     multigrid::BlockSystem assemble(std::vector<double>& norms);
     /// The fluid's volume (on the moved mesh) and the flow rates through the inlet, the outlet
     /// and the interface (outward normals; the inlet's is counted as inflow) at the current state.
@@ -113,6 +133,7 @@ namespace physics::fsi
         solid_relevant_, solid_ghosts_;
     std::vector<dealii::IndexSet>          solid_owned_per_rank_;
     dealii::AffineConstraints<double>      fluid_constraints_, solid_constraints_, mesh_free_;
+    dealii::AffineConstraints<double>      fluid_free_; ///< none: the unconstrained residual (forces)
     dealii::TrilinosWrappers::SparseMatrix K_F_, S_F_, K_S_;
     SolidModel<dim>                        solid_model_;
     std::unique_ptr<SolidDynamics<dim>>    dynamics_;
@@ -121,7 +142,8 @@ namespace physics::fsi
 
     /// Interface DOF -> structure DOF, for the whole interface on every rank (interface-sized,
     /// from the all-gather of match_interface; the merged numbering needs every rank's count).
-    std::map<GlobalIndex, GlobalIndex> fluid_partner_, mesh_partner_;
+    /// With dual mortar each DOF follows several structure DOFs (a row of P; interface_nodes.h).
+    InterfacePartners fluid_partner_, mesh_partner_;
     std::vector<GlobalIndex>           removed_mesh_; ///< interface ALE DOFs, sorted, whole interface
     /// Clamped structure DOFs this rank meets: its locally relevant ones and those of the whole
     /// interface (a fluid rank meets them as partners of its interface DOFs).
@@ -163,5 +185,12 @@ namespace physics::fsi
     double                volume_old_ = 0, volume_older_ = 0; ///< fluid volume at t_n, t_{n-1}
     double                max_mass_imbalance_ = 0; ///< relative, over the steps with inlet pressure
     std::ofstream         wall_csv_;               ///< rank 0
+    // Inflow, forces and monitor point (condensed_fsi_forces.cc)
+    std::map<GlobalIndex, double> inflow_profile_; ///< owned inlet velocity DOFs -> value at full inflow
+    bool                          has_obstacle_ = false; ///< fluid faces with boundary::obstacle exist
+    std::vector<GlobalIndex>      force_dofs_;   ///< owned fluid velocity DOFs on obstacle and interface
+    std::vector<GlobalIndex>      monitor_dofs_; ///< the monitor node's structure DOFs, on its owner
+    std::vector<double>           last_force_, last_monitor_; ///< of the last converged step
+    std::ofstream                 forces_csv_;                ///< rank 0
   };
 } // namespace physics::fsi

@@ -35,8 +35,9 @@ namespace physics::fsi
         {
           const GO g              = map->getGlobalElement(i);
           const auto [field, dof] = field_dof(g);
-          const bool fixed        = (field == 0 && solid_constraints_.is_constrained(dof)) ||
-                             (field == 1 && is_interface_velocity(dof)) ||
+          const bool fixed =
+              (field == 0 && solid_constraints_.is_constrained(dof)) ||
+              (field == 1 && (is_interface_velocity(dof) || fluid_constraints_.is_constrained(dof))) ||
                              (field == 2 && mesh_fixed_.count(dof) > 0);
           data[i] = fixed ? 0.0 : (field == 1 ? 1.0 : 1e-3) * std::sin(1.3 * g + 0.4);
         }
@@ -125,8 +126,11 @@ namespace physics::fsi
     d_S_old_               = d_S_;
     fluid_model_.time_step          = step;
     fluid_model_.previous_time_step = last_time_step_; // BDF2's weights on unequal steps
-    fluid_model_.boundary_pressures[boundary::inlet] =
-        time <= p_.pulse_duration * (1 + 1e-12) ? p_.inlet_pressure : 0.0;
+    if (p_.parabolic_inflow)
+      apply_inflow(time);
+    else
+      fluid_model_.boundary_pressures[boundary::inlet] =
+          time <= p_.pulse_duration * (1 + 1e-12) ? p_.inlet_pressure : 0.0;
     sync_interface(); // the constant-displacement predictor's interface velocity
   }
 
@@ -142,14 +146,15 @@ namespace physics::fsi
   template <int dim>
   void CondensedFsi<dim>::end_step(int number, double time)
   {
-    // The interface traction lambda_{n+1} = R^F_Gamma, recovered for the next step's af
-    // lambda_n term, sent to the owners of the structure DOFs.
+    // The interface traction lambda_{n+1} = P^T R^F_Gamma on the structure's interface DOFs,
+    // recovered for the next step's af lambda_n term, sent to the owners of the structure DOFs.
     TrilinosWrappers::MPI::Vector R_F;
     assemble_fluid(R_F, nullptr, nullptr);
     std::map<GlobalIndex, double> lambda;
-    for (const auto& [f, sd] : fluid_partner_)
+    for (const auto& [f, row] : fluid_partner_)
       if (fluid_owned_.is_element(f))
-        lambda[sd] += R_F[f];
+        for (const auto& [sd, p] : row)
+          lambda[sd] += p * R_F[f];
     lambda_old_ = send_entries_to_owners(
         lambda, [&](GlobalIndex g) { return owning_rank(solid_owned_per_rank_, g); }, comm_);
     dynamics_->end_step(d_S_);
@@ -161,6 +166,7 @@ namespace physics::fsi
     last_time_step_ = fluid_model_.time_step; // BDF2's previous step in the next begin_step
     ++steps_done_;
     record_step(number, time);
+    record_forces(number, time);
   }
 
   template <int dim>
@@ -213,13 +219,19 @@ namespace physics::fsi
       prepare_output_directory(p_.output_directory, comm_);
       make_meshes();
       setup_fields();
+      setup_inflow_and_monitors();
       if (rank_ == 0)
         log_ = JsonLinesLog(p_.output_directory + "/run_log.jsonl");
       fluid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "fluid", comm_);
       solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "structure", comm_);
       sync_interface();
       volume_old_ = volume_older_ = fluid_balance().volume;
-      if (rank_ == 0)
+      if (rank_ == 0 && (has_obstacle_ || !p_.monitor_point.empty()))
+        {
+          forces_csv_.open(p_.output_directory + "/forces.csv");
+          forces_csv_ << forces_csv_header();
+        }
+      if (rank_ == 0 && !has_obstacle_)
         {
           // The wall profile, one row per converged step: time, then the mean outward wall
           // displacement at each station; the header names the stations' x.
@@ -257,6 +269,8 @@ namespace physics::fsi
     summary.ale_l2                = d_G_.l2_norm();
     summary.fluid_l2              = x_F_.l2_norm();
     summary.max_mass_imbalance    = max_mass_imbalance_;
+    summary.obstacle_force        = last_force_;
+    summary.monitor_displacement  = last_monitor_;
     if (!result.converged)
       pcout_ << "Newton did not converge in time step " << result.steps + 1 << ": " << result.failure << "\n";
     log_timer_summary(timer_, log_, std::cout, rank_ == 0, comm_);

@@ -45,9 +45,10 @@ namespace physics::fsi
     });
     create_distributed_mesh<2>(structure, [&](Triangulation<2>& tria) {
       Triangulation<2> lower, upper;
-      GridGenerator::subdivided_hyper_rectangle(lower, {nx, g.cells_wall}, Point<2>(0, -g.wall_thickness),
+      const unsigned nxw = g.cells_wall_x > 0 ? g.cells_wall_x : nx;
+      GridGenerator::subdivided_hyper_rectangle(lower, {nxw, g.cells_wall}, Point<2>(0, -g.wall_thickness),
                                                 Point<2>(g.length, 0));
-      GridGenerator::subdivided_hyper_rectangle(upper, {nx, g.cells_wall}, Point<2>(0, g.height),
+      GridGenerator::subdivided_hyper_rectangle(upper, {nxw, g.cells_wall}, Point<2>(0, g.height),
                                                 Point<2>(g.length, g.height + g.wall_thickness));
       GridGenerator::merge_triangulations(lower, upper, tria);
       classify(tria);

@@ -2,13 +2,16 @@
 // (common/distributed_mesh.h), with the interface nodes of the two meshes at the same places:
 //  - the 2D channel between two elastic walls, generated (apps/fsi_channel_2d.prm);
 //  - any gmsh mesh with the fluid as physical volume (2D: surface) 1 and the structure as 2 in one
-//    conforming mesh (meshes/fsi_tube_3d.geo, apps/fsi_tube_3d.prm). The two parts are cut
+//    conforming mesh (meshes/fsi_tube_3d.geo, meshes/fsi_turek_hron.geo). The two parts are cut
 //    apart on the group roots; the faces where they met become the interface of both, so their
 //    nodes match by construction.
 // Boundary ids of both meshes (the gmsh physical surfaces/lines keep their numbers):
 //   1 inlet plane (fluid: the pressure pulse; structure: clamped; ALE: fixed),
 //   2 outlet plane (fluid: traction-free; structure: clamped; ALE: fixed),
-//   3 fluid/structure interface, 5 the structure's outer surface (traction-free).
+//   3 fluid/structure interface, 5 the structure's outer surface (traction-free),
+//   4 a rigid wall (fluid: no-slip; structure: clamped; ALE: fixed),
+//   6 a rigid obstacle (as 4; the fluid's force on obstacle and interface is logged: the
+//     Turek-Hron cylinder, meshes/fsi_turek_hron.geo).
 // Id 0 is left unused: a fully distributed mesh gives it to the outer faces of its ghost layer.
 #pragma once
 
@@ -18,17 +21,17 @@
 
 namespace physics::fsi::boundary
 {
-  constexpr unsigned int inlet = 1, outlet = 2, interface = 3, outer = 5;
+  constexpr unsigned int inlet = 1, outlet = 2, interface = 3, wall = 4, outer = 5, obstacle = 6;
 } // namespace physics::fsi::boundary
 
 namespace physics::fsi
 {
   /// The generated 2D channel: fluid [0, L] x [0, H] (nx x nf cells), walls [0, L] x [-t, 0] and
-  /// [0, L] x [H, H + t] (nx x nw cells each).
+  /// [0, L] x [H, H + t] (nxw x nw cells each; nxw = 0: nx, matching interface nodes).
   struct ChannelGeometry
   {
     double       length = 6, height = 1, wall_thickness = 0.1;
-    unsigned int cells_x = 30, cells_fluid = 6, cells_wall = 1;
+    unsigned int cells_x = 30, cells_fluid = 6, cells_wall = 1, cells_wall_x = 0;
   };
 
   void make_channel_meshes(const ChannelGeometry&                                g,

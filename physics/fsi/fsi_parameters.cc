@@ -4,6 +4,12 @@
 #include "fsi/ale_mesh_motion.h"
 #include "fsi/condensed_fsi.h"
 
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
 namespace physics::fsi
 {
   using dealii::Patterns::Bool;
@@ -18,9 +24,10 @@ namespace physics::fsi
     MeshParameters::declare_entries(
         prm, d,
         "Empty: the generated 2D channel (the entries below). Else fluid = physical volume (2D: surface) 1, "
-        "structure = 2, one conforming mesh; physical surfaces (2D: lines) 1 inlet plane, 2 outlet plane, 5 "
-        "the "
-        "structure's outer surface; the interface is where the two volumes meet (meshes/fsi_tube_3d.geo).");
+        "structure = 2, one conforming mesh; physical surfaces (2D: lines) 1 inlet plane, 2 outlet plane, 4 "
+        "rigid walls (no-slip, structure clamped), 5 the structure's outer surface, 6 a rigid obstacle (as "
+        "4, its force logged); the interface is where the two volumes meet (meshes/fsi_tube_3d.geo, "
+        "meshes/fsi_turek_hron.geo).");
     prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension (3 needs a Mesh file).");
     prm.declare_entry("Length", std::to_string(d.length), Double(), "Channel length L (> 0; CGS: cm).");
     prm.declare_entry("Height", std::to_string(d.height), Double(),
@@ -33,6 +40,10 @@ namespace physics::fsi
                       "Fluid cells across H.");
     prm.declare_entry("Wall cells in y", std::to_string(d.cells_wall_y), Integer(1, 100000),
                       "Structure cells across each wall.");
+    prm.declare_entry("Wall cells in x", "0", Integer(0, 100000),
+                      "Structure cells along each wall; 0: Cells in x (matching interface nodes). Another "
+                      "number makes the interface meshes non-matching: needs Coupling/Interface = dual "
+                      "mortar.");
     prm.leave_subsection();
 
     prm.enter_subsection("Fluid");
@@ -50,10 +61,23 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("Loading");
+    prm.declare_entry("Inflow", "pressure pulse",
+                      dealii::Patterns::Selection("pressure pulse|parabolic velocity"),
+                      "What drives the flow through the inlet (boundary id 1, a plane normal to x): a "
+                      "pressure pulse (Inlet pressure, Pulse duration; the pressure-wave tube and channel) "
+                      "or a prescribed parabolic velocity profile along x (Mean inflow velocity, Inflow "
+                      "ramp time; the Turek-Hron channel): 2D 1.5 U 4 s (1 - s) with s across the inlet's "
+                      "extent in y, 3D 2 U (1 - r^2 / R^2) on a circular inlet of radius R.");
     prm.declare_entry("Inlet pressure", "1.3332e4", Double(),
                       "Pressure on the inlet x = 0 during the pulse (CGS: dyn/cm^2).");
     prm.declare_entry("Pulse duration", "3e-3", Double(),
                       "The inlet pressure acts for 0 < t <= this, then 0 (>= 0; s).");
+    prm.declare_entry("Mean inflow velocity", "0.2", Double(),
+                      "U, the mean velocity of the parabolic inflow (> 0; its peak is 1.5 U in 2D, 2 U in "
+                      "3D).");
+    prm.declare_entry("Inflow ramp time", "0", Double(),
+                      "T >= 0: the parabolic inflow grows as (1 - cos(pi t / T)) / 2 for t < T (the "
+                      "benchmark's smooth start), then stays; 0: full inflow from the first step.");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -74,6 +98,12 @@ namespace physics::fsi
                       "Include the fluid's derivatives with respect to the mesh displacement in the Jacobian "
                       "(false: Newton converges more slowly).");
     prm.declare_entry(
+        "Interface", "matching nodes", dealii::Patterns::Selection("matching nodes|dual mortar"),
+        "How the fluid's interface follows the structure's: node by node (the meshes must match there) or "
+        "by dual mortar, P = D^-1 M with the fluid side as slave (non-matching meshes; on matching meshes "
+        "P is the node map). The fluid interface velocities and ALE interface displacements are P times "
+        "the structure's, the fluid's interface rows reach the structure as P^T R.");
+    prm.declare_entry(
         "Check Jacobian", "false", Bool(),
         "Testing: at the start of time step 2, compare the Newton matrix times a direction with "
         "central differences of the residual; prints and logs the relative error per field.");
@@ -82,6 +112,14 @@ namespace physics::fsi
     d.solver.declare(prm, residual_fields());
 
     OutputParameters::declare(prm, d, "VTK (fluid.pvd and structure.pvd, a pvtu per step each)");
+    prm.enter_subsection("Output");
+    prm.declare_entry("Monitor point", "", dealii::Patterns::Anything(),
+                      "Empty, or the reference coordinates (dim numbers, separated by commas or blanks) of a "
+                      "structure mesh node whose displacement is logged per time step (the Turek-Hron "
+                      "point A: 0.6, 0.2). "
+                      "With a rigid obstacle (boundary id 6) the fluid's force on obstacle and structure "
+                      "(drag, lift) is logged too; both go to Directory/forces.csv.");
+    prm.leave_subsection();
   }
 
   void FsiParameters::parse(dealii::ParameterHandler& prm)
@@ -98,6 +136,7 @@ namespace physics::fsi
     cells_x        = prm.get_integer("Cells in x");
     cells_fluid_y  = prm.get_integer("Fluid cells in y");
     cells_wall_y   = prm.get_integer("Wall cells in y");
+    cells_wall_x   = prm.get_integer("Wall cells in x");
     prm.leave_subsection();
 
     prm.enter_subsection("Fluid");
@@ -114,10 +153,15 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("Loading");
-    inlet_pressure = prm.get_double("Inlet pressure");
-    pulse_duration = prm.get_double("Pulse duration");
+    parabolic_inflow = prm.get("Inflow") == "parabolic velocity";
+    inlet_pressure   = prm.get_double("Inlet pressure");
+    pulse_duration   = prm.get_double("Pulse duration");
     if (!(pulse_duration >= 0))
       throw std::invalid_argument("parameter 'Pulse duration' (Loading): expected a value >= 0");
+    mean_inflow_velocity = positive(prm.get_double("Mean inflow velocity"), "Mean inflow velocity (Loading)");
+    inflow_ramp_time     = prm.get_double("Inflow ramp time");
+    if (!(inflow_ramp_time >= 0))
+      throw std::invalid_argument("parameter 'Inflow ramp time' (Loading): expected a value >= 0");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -129,11 +173,47 @@ namespace physics::fsi
 
     prm.enter_subsection("Coupling");
     shape_derivatives = prm.get_bool("Shape derivatives");
+    dual_mortar       = prm.get("Interface") == "dual mortar";
     check_jacobian    = prm.get_bool("Check Jacobian");
     prm.leave_subsection();
 
     solver.parse(prm, residual_fields());
 
     OutputParameters::parse(prm);
+    prm.enter_subsection("Output");
+    monitor_point = parse_point(prm.get("Monitor point"), dimension);
+    prm.leave_subsection();
+  }
+
+  std::vector<double> FsiParameters::parse_point(const std::string& text, int dim)
+  {
+    std::vector<double> point;
+    if (text.find_first_not_of(" \t") == std::string::npos)
+      return point;
+    const auto bad = [&] {
+      return std::invalid_argument("parameter 'Monitor point' (Output): expected " + std::to_string(dim) +
+                                   " numbers (separated by commas or blanks), got '" + text + "'");
+    };
+    std::string separated = text; // commas or blanks between the numbers
+    std::replace(separated.begin(), separated.end(), ',', ' ');
+    std::istringstream in(separated);
+    std::string        item;
+    while (in >> item)
+      {
+        std::size_t end = 0;
+        try
+          {
+            point.push_back(std::stod(item, &end));
+          }
+        catch (const std::exception&)
+          {
+            throw bad();
+          }
+        if (end != item.size() || !std::isfinite(point.back()))
+          throw bad();
+      }
+    if (point.size() != static_cast<std::size_t>(dim))
+      throw bad();
+    return point;
   }
 } // namespace physics::fsi

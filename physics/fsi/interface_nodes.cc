@@ -76,7 +76,8 @@ namespace physics::fsi
         if (it == node_of.end())
           throw std::invalid_argument("Geometry: a fluid interface node at " +
                                       Utilities::to_string(from.positions[k][0]) +
-                                      " has no structure node (the interface meshes must match)");
+                                      " has no structure node (with Coupling/Interface = matching nodes the "
+                                      "interface meshes must match; dual mortar couples non-matching ones)");
         for (unsigned int c = 0; c < n; ++c)
           partner[from.dofs[k * from.components + c]] = to.dofs[it->second * to.components + c];
       }

@@ -17,6 +17,8 @@
 
 #include <functional>
 #include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace physics::fsi
@@ -46,4 +48,36 @@ namespace physics::fsi
   template <int dim>
   std::map<GlobalIndex, GlobalIndex> match_interface_nodes(const InterfaceNodes<dim>& from,
                                                            const InterfaceNodes<dim>& to, double tolerance);
+
+  /// How an interface DOF follows the structure: DOF -> (structure DOF, weight) pairs, the row
+  /// of P in u_Gamma = P d_Gamma (matching nodes: one pair of weight 1).
+  using InterfacePartners = std::map<GlobalIndex, std::vector<std::pair<GlobalIndex, double>>>;
+
+  /// One field's interface faces of all ranks (interface_mortar.cc): the nodes of every face,
+  /// each node once (its first `components` DOFs), and per face its node numbers, ordered so
+  /// that the right-hand rule gives the field's outward normal (common/mortar_integration.h).
+  template <int dim>
+  struct InterfaceFaces
+  {
+    InterfaceNodes<dim>                    nodes;
+    std::vector<std::vector<unsigned int>> faces;
+  };
+
+  /// Collective: the faces with `on_interface(boundary id)` of the locally owned cells, gathered
+  /// from every rank (O(interface) per rank, like gather_interface_nodes).
+  template <int dim>
+  InterfaceFaces<dim>
+  gather_interface_faces(const dealii::DoFHandler<dim>& dofs, unsigned int components,
+                         const std::function<bool(dealii::types::boundary_id)>& on_interface, MPI_Comm comm);
+
+  /// Dual mortar on non-matching interface meshes: with the slave side `from` (the fluid) and
+  /// the master side `to` (the structure), D_jj and M_jl integrated over the faces' overlaps
+  /// with the dual (biorthogonal) multiplier basis of the slave faces, P = D^-1 M row by row (D
+  /// is diagonal: no solve), for the first `components` DOFs of every slave node. On matching
+  /// meshes P is the node map. Throws std::invalid_argument (the same on every rank) naming
+  /// `what` when a slave node does not face the master surface (a row sum of P off 1 by more
+  /// than 1e-3: the two interface surfaces do not overlap there).
+  template <int dim>
+  InterfacePartners dual_mortar_partners(const InterfaceFaces<dim>& from, const InterfaceFaces<dim>& to,
+                                         unsigned int components, const std::string& what);
 } // namespace physics::fsi
