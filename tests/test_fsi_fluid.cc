@@ -1,6 +1,6 @@
 // The FSI class's fluid alone (physics/fsi/ale_fluid.h, fluid_flow.h): the AD Jacobian against
 // finite differences (fluid unknowns on a moving mesh, and the shape derivative), steady
-// Poiseuille flow in a 2D channel, the convergence orders on Kovasznay flow (Re = 40), and
+// Poiseuille flow in a 2D channel and a 3D pipe, the convergence orders on Kovasznay flow (Re = 40), and
 // geometric conservation: a fluid at rest, or in uniform motion with its mesh, on a deforming
 // mesh stays so to round-off; the same on fully distributed meshes. Runs on 1 and 2 ranks;
 // prints the measured numbers.
@@ -99,6 +99,39 @@ namespace
 
   private:
     double U_, H_, L_, G_;
+  };
+
+  /// Hagen-Poiseuille flow in a pipe along x of radius R (mean velocity U): u = 2 U (1 - r^2 / R^2)
+  /// e_x, p = G (L - x), G = 8 mu U / R^2.
+  class PipePoiseuille : public Function<3>
+  {
+  public:
+    PipePoiseuille(double U, double R, double L, double mu)
+        : Function<3>(4)
+        , U_(U)
+        , R_(R)
+        , L_(L)
+        , G_(8 * mu * U / (R * R))
+    {
+    }
+    double value(const Point<3>& x, unsigned int c) const override
+    {
+      const double r2 = x[1] * x[1] + x[2] * x[2];
+      return c == 0 ? 2 * U_ * (1 - r2 / (R_ * R_)) : c == 3 ? G_ * (L_ - x[0]) : 0.0;
+    }
+    Tensor<1, 3> gradient(const Point<3>& x, unsigned int c) const override
+    {
+      Tensor<1, 3> g;
+      if (c == 0)
+        for (unsigned d = 1; d < 3; ++d)
+          g[d] = -4 * U_ * x[d] / (R_ * R_);
+      if (c == 3)
+        g[0] = -G_;
+      return g;
+    }
+
+  private:
+    double U_, R_, L_, G_;
   };
 
   /// Kovasznay's exact solution of the steady Navier-Stokes equations (nu = 1/Re).
@@ -305,6 +338,44 @@ namespace
         previous = e.velocity_l2;
       }
     EXPECT_LT(previous, 0.02);
+  }
+
+  TEST(FsiFluid, SteadyPoiseuilleInAPipe)
+  {
+    // deal.II's cylinder along x (radius R, x in [-L, L]; boundary ids 0 the wall, 1 and 2 the
+    // ends), refined with its cylindrical manifold, so the wall nodes lie on the circle: the
+    // exact velocity on every boundary, the pressure at the outlet's centre.
+    const double U = 1.0, R = 0.5, L = 1.0, mu = 0.1, rho = 1.0;
+    double       previous = 0;
+    for (const unsigned refinements : {1u, 2u, 3u})
+      {
+        parallel::distributed::Triangulation<3> tria(comm);
+        GridGenerator::cylinder(tria, R, L);
+        tria.refine_global(refinements);
+        FluidFlowSetup<3> s;
+        s.model.properties = {rho, mu};
+        auto exact         = std::make_shared<PipePoiseuille>(U, R, L, mu);
+        for (types::boundary_id b = 0; b < 3; ++b)
+          s.velocity[b] = exact;
+        s.pressure_point = std::make_pair(Point<3>(L, 0.0, 0.0), exact);
+        FluidFlow<3> flow(tria, s, comm);
+        const auto   result = solve(flow, one_step());
+        ASSERT_TRUE(result.converged) << result.failure;
+        const auto e = flow.errors(*exact);
+        if (root())
+          std::cout << "Pipe Poiseuille, " << tria.n_global_active_cells() << " cells: Newton steps "
+                    << result.newton[0].iterations << ", ||u - u_h|| = " << e.velocity_l2
+                    << ", |u - u_h|_1 = " << e.velocity_h1 << ", ||p - p_h|| = " << e.pressure_l2 << "\n";
+        // Not exact either (as in the channel, and the wall is a polygon through the circle's
+        // nodes): measured ||u - u_h|| 0.502, 0.190, 0.058 (ratios 2.6 and 3.3: second order
+        // reached from the second refinement on; 4 % of ||u|| = 1.45 at 5120 cells).
+        if (previous > 0)
+          {
+            EXPECT_LT(e.velocity_l2, previous / (refinements == 2 ? 2.5 : 3.0));
+          }
+        previous = e.velocity_l2;
+      }
+    EXPECT_LT(previous, 0.06);
   }
 
   TEST(FsiFluid, KovasznayConvergenceOrders)

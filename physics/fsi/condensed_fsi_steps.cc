@@ -38,7 +38,7 @@ namespace physics::fsi
           const bool fixed =
               (field == 0 && solid_constraints_.is_constrained(dof)) ||
               (field == 1 && (is_interface_velocity(dof) || fluid_constraints_.is_constrained(dof))) ||
-                             (field == 2 && mesh_fixed_.count(dof) > 0);
+              (field == 2 && mesh_fixed_.count(dof) > 0);
           data[i] = fixed ? 0.0 : (field == 1 ? 1.0 : 1e-3) * std::sin(1.3 * g + 0.4);
         }
     }
