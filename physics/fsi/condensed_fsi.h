@@ -1,5 +1,5 @@
-// Condensed (monolithic) fluid/solid interaction on matching interface meshes, the seeds'
-// structure-split formulation (FSI.md): the structure (Saint Venant-Kirchhoff, generalized-alpha
+// Condensed (monolithic) fluid/solid interaction, the seeds' structure-split formulation
+// (FSI.md): the structure (Saint Venant-Kirchhoff, generalized-alpha
 // from the common layer), the ALE fluid (ale_fluid.h) and the pseudo-elastic mesh
 // (ale_mesh_motion.h) in one Newton iteration, the interface traction eliminated:
 //
@@ -10,6 +10,10 @@
 //               the fluid, at t_{n+1}: the fluid residual is BDF) act on the structure as -lambda;
 //               generalized-alpha evaluates forces at t_{n+1-af}, so the structure interface rows
 //               become  R^S_Gamma + (1 - af) R^F_Gamma + af lambda_n   (the seeds' (1-a)/(1-b), b = 0).
+// On non-matching interface meshes (Coupling/Interface = dual mortar) the fluid's interface
+// values are P = D^-1 M times the structure's (u^F_Gamma = tau P d^S_Gamma + ..., d^G_Gamma = P
+// d^S_Gamma) and its interface rows reach the structure as P^T R^F_Gamma; matching nodes are the
+// special case P = node map (interface_nodes.h).
 //
 // Unknowns (the seeds' layout): d^S (inner and interface), the fluid DOFs without the interface
 // velocities (u_I, p), and the inner ALE DOFs d^G_I. The Newton system

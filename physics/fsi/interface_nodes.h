@@ -1,8 +1,9 @@
-// The FSI interface of matching meshes on fully distributed triangulations. The fluid and the
+// The FSI interface on fully distributed triangulations: matching nodes here, non-matching
+// meshes by dual mortar (the faces and P = D^-1 M below, interface_mortar.cc). The fluid and the
 // structure are partitioned independently, so the fluid and structure cells at a piece of the
 // interface usually live on different ranks, and no rank stores the other field's cells there.
-// Each rank therefore contributes the interface nodes it owns (reference position and DOF
-// indices), and one all-gather gives every rank the whole interface: O(interface) data per
+// Each rank therefore contributes the interface nodes (or faces) it owns (reference position and
+// DOF indices), and one all-gather gives every rank the whole interface: O(interface) data per
 // rank, the surface-sized exception production codes make too (a rank needs the partner of
 // every interface DOF it assembles, and the merged numbering needs every rank's count of
 // condensed DOFs). Nothing of global size (cells, DOFs) is gathered.
