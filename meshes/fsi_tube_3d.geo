@@ -16,7 +16,11 @@
 // Physical ids: volumes 1 fluid, 2 structure; surfaces 1 the inlet plane x = 0 (fluid inlet and
 // the structure's clamped end), 2 the outlet plane x = L, 5 the outer wall r = R + h. The
 // interface r = R is interior to this mesh: the fsi app finds it where the two volumes meet.
-DefineConstant[ refine = 1 ];
+// Non-matching along x: -setnumber wall_cells M (M != 20 refine) gives the wall M cells along
+// the tube on an interface surface of its own (the same arcs around, other nodes along x); both
+// interface surfaces are then physical surface 3 (the fsi app needs Coupling/Interface = dual
+// mortar). wall_cells = 0 (default): the matching mesh above.
+DefineConstant[ refine = 1, wall_cells = 0 ];
 L = 5; R = 0.5; h = 0.1;
 layer = 0.02 / refine; // thickness of the fluid cells at the wall (halves with the rest)
 s = 0.35 * R;          // half side of the core square
@@ -24,6 +28,12 @@ nq = 2 * refine;       // cells per quarter of the circumference (and per side o
 nr = refine;           // cells from the core to the wall layer
 nw = refine;           // cells through the wall
 nx = 20 * refine;      // cells along the tube
+
+nxw = wall_cells > 0 ? wall_cells : nx; // cells along the wall
+apart = wall_cells > 0;                  // the wall on an interface surface of its own
+If (apart)
+  Geometry.AutoCoherence = 0; // keep the wall's interface points apart from the fluid's
+EndIf
 
 c = 1 / Sqrt(2);
 Point(1) = {0, 0, 0};
@@ -34,7 +44,11 @@ For k In {0 : 3}
   Point(20 + k) = {0, R * Cos(a), R * Sin(a)};
   Point(30 + k) = {0, (R + h) * Cos(a), (R + h) * Sin(a)};
   Point(60 + k) = {0, (R - layer) * Cos(a), (R - layer) * Sin(a)};
+  If (apart)
+    Point(80 + k) = {0, R * Cos(a), R * Sin(a)}; // the wall's own interface points
+  EndIf
 EndFor
+wi = apart ? 80 : 20; // the wall's interface points and arcs
 For k In {0 : 3}
   k1 = (k + 1) % 4;
   Line(10 + k) = {10 + k, 10 + k1};        // core sides
@@ -43,9 +57,15 @@ For k In {0 : 3}
   Circle(60 + k) = {60 + k, 1, 60 + k1};   // inner circle of the wall layer
   Line(40 + k) = {10 + k, 60 + k};         // core -> wall layer
   Line(70 + k) = {60 + k, 20 + k};         // wall layer -> interface
-  Line(50 + k) = {20 + k, 30 + k};         // interface -> outer
+  Line(50 + k) = {wi + k, 30 + k};         // interface -> outer
+  If (apart)
+    Circle(80 + k) = {80 + k, 1, 80 + k1}; // the wall's interface arcs
+  EndIf
 EndFor
 Transfinite Curve{10 : 13, 20 : 23, 30 : 33, 60 : 63} = nq + 1;
+If (apart)
+  Transfinite Curve{80 : 83} = nq + 1;
+EndIf
 Transfinite Curve{70 : 73} = 2;
 Transfinite Curve{40 : 43} = nr + 1;
 Transfinite Curve{50 : 53} = nw + 1;
@@ -58,7 +78,7 @@ For k In {0 : 3}
   Plane Surface(10 + k) = {10 + k};
   Curve Loop(30 + k) = {60 + k, 70 + k1, -(20 + k), -(70 + k)};
   Plane Surface(30 + k) = {30 + k};
-  Curve Loop(20 + k) = {20 + k, 50 + k1, -(30 + k), -(50 + k)};
+  Curve Loop(20 + k) = {wi + k, 50 + k1, -(30 + k), -(50 + k)};
   Plane Surface(20 + k) = {20 + k};
 EndFor
 Transfinite Surface{1, 10 : 13, 20 : 23, 30 : 33};
@@ -69,6 +89,7 @@ fluid[] = {};
 wall[] = {};
 outlet[] = {};
 outer[] = {};
+interface[] = {};
 core[] = Extrude {L, 0, 0} { Surface{1}; Layers{nx}; Recombine; };
 fluid += core[1];
 outlet += core[0];
@@ -79,10 +100,11 @@ For k In {0 : 3}
   film[] = Extrude {L, 0, 0} { Surface{30 + k}; Layers{nx}; Recombine; };
   fluid += film[1];
   outlet += film[0];
-  shell[] = Extrude {L, 0, 0} { Surface{20 + k}; Layers{nx}; Recombine; };
+  shell[] = Extrude {L, 0, 0} { Surface{20 + k}; Layers{nxw}; Recombine; };
   wall += shell[1];
   outlet += shell[0];
   outer += shell[4]; // the side extruded from the outer arc 30 + k (third curve of the loop)
+  interface += {film[4], shell[2]}; // the two sides at r = R (one surface when matching)
 EndFor
 
 Physical Volume("fluid", 1) = {fluid[]};
@@ -90,3 +112,6 @@ Physical Volume("structure", 2) = {wall[]};
 Physical Surface("inlet", 1) = {1, 10 : 13, 20 : 23, 30 : 33};
 Physical Surface("outlet", 2) = {outlet[]};
 Physical Surface("outer", 5) = {outer[]};
+If (apart)
+  Physical Surface("interface", 3) = {interface[]};
+EndIf
