@@ -8,6 +8,7 @@
 #include "common/newton_solver.h"
 #include "common/step_driver.h"
 #include "fsi/fluid_flow.h"
+#include "fsi_test_helpers.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
@@ -45,26 +46,8 @@ namespace
 
   const MPI_Comm comm = MPI_COMM_WORLD;
 
-  bool root()
-  {
-    return Utilities::MPI::this_mpi_process(comm) == 0;
-  }
-
-  /// Runs `problem` over the steps of `steps` with Newton and direct(superlu); returns the
-  /// driver's result.
-  physics::StepsResult solve(physics::SteppedProblem& problem, const physics::StepSettings& steps,
-                             double tolerance = 1e-10)
-  {
-    physics::NewtonSettings settings;
-    settings.max_iterations = 15;
-    settings.tolerances     = {{1e-13, tolerance}, {1e-13, tolerance}};
-    physics::JsonLinesLog log;
-    ConditionalOStream    console(std::cout, false);
-    TimerOutput           timer(console, TimerOutput::never, TimerOutput::wall_times);
-    physics::NewtonSolver newton(settings, multigrid::load_preset("direct(superlu)"), {}, log, console, timer,
-                                 comm);
-    return physics::run_steps(problem, steps, newton, log, console);
-  }
+  using fsi_test::root;
+  using fsi_test::solve;
 
   physics::StepSettings one_step()
   {
@@ -458,6 +441,7 @@ namespace
     FluidFlowSetup<2> s;
     s.model.properties = {1.0, 0.01};
     s.model.scheme     = scheme;
+    s.model.theta      = 0.5;
     auto state = std::make_shared<Functions::ConstantFunction<2>>(std::vector<double>{V[0], V[1], 0.0});
     for (types::boundary_id b = 0; b < 4; ++b)
       s.velocity[b] = state;
@@ -482,7 +466,9 @@ namespace
     const double moved     = flow.mesh_displacement().linfty_norm();
     if (root())
       std::cout << "geometric conservation, V = " << V << ", "
-                << (scheme == FluidTimeScheme::bdf1 ? "BDF1" : "BDF2")
+                << (scheme == FluidTimeScheme::bdf1   ? "BDF1"
+                    : scheme == FluidTimeScheme::bdf2 ? "BDF2"
+                                                      : "one-step-theta 1/2")
                 << (pseudo_elastic ? ", pseudo-elastic mesh" : ", prescribed mesh")
                 << (fully_distributed ? ", fully distributed" : "") << ": " << result.steps
                 << " steps, max |d^G| = " << moved << ", max |x - x_exact| = " << deviation
@@ -497,8 +483,9 @@ namespace
   {
     for (const bool pseudo_elastic : {false, true})
       {
-        check_uniform_state_preserved({}, FluidTimeScheme::bdf1, pseudo_elastic);
-        check_uniform_state_preserved({}, FluidTimeScheme::bdf2, pseudo_elastic);
+        for (const auto scheme :
+             {FluidTimeScheme::bdf1, FluidTimeScheme::bdf2, FluidTimeScheme::one_step_theta})
+          check_uniform_state_preserved({}, scheme, pseudo_elastic);
       }
   }
 
@@ -506,8 +493,9 @@ namespace
   {
     for (const bool pseudo_elastic : {false, true})
       {
-        check_uniform_state_preserved(Tensor<1, 2>({0.7, -0.4}), FluidTimeScheme::bdf1, pseudo_elastic);
-        check_uniform_state_preserved(Tensor<1, 2>({0.7, -0.4}), FluidTimeScheme::bdf2, pseudo_elastic);
+        for (const auto scheme :
+             {FluidTimeScheme::bdf1, FluidTimeScheme::bdf2, FluidTimeScheme::one_step_theta})
+          check_uniform_state_preserved(Tensor<1, 2>({0.7, -0.4}), scheme, pseudo_elastic);
       }
   }
 

@@ -18,18 +18,39 @@ namespace physics::fsi
 {
   using namespace dealii;
 
-  BdfWeights BdfWeights::of(FluidTimeScheme scheme, double step_ratio)
+  TimeStencil TimeStencil::of(FluidTimeScheme scheme, double step_ratio, double theta)
   {
     const double w = step_ratio;
     switch (scheme)
       {
       case FluidTimeScheme::bdf1:
-        return {1.0, -1.0, 0.0};
+        return {1.0, -1.0, 0.0, 0.0};
       case FluidTimeScheme::bdf2:
-        return {(1 + 2 * w) / (1 + w), -(1 + w), w * w / (1 + w)};
+        return {(1 + 2 * w) / (1 + w), -(1 + w), w * w / (1 + w), 0.0};
+      case FluidTimeScheme::one_step_theta:
+        return {1 / theta, -1 / theta, 0.0, -(1 - theta) / theta};
       default:
         return {};
       }
+  }
+
+  void TimeStencil::rate(const TrilinosWrappers::MPI::Vector& x, const TrilinosWrappers::MPI::Vector& x_old,
+                         const TrilinosWrappers::MPI::Vector& x_older,
+                         const TrilinosWrappers::MPI::Vector& rate_old, double dt,
+                         TrilinosWrappers::MPI::Vector& out) const
+  {
+    // Owned copies first: any of the vectors may carry ghosts (assignment imports the owned part).
+    const IndexSet                owned = x.locally_owned_elements();
+    TrilinosWrappers::MPI::Vector r(owned, x.get_mpi_communicator()), v(r);
+    const std::pair<const TrilinosWrappers::MPI::Vector*, double> terms[] = {
+        {&x, a0 / dt}, {&x_old, a1 / dt}, {&x_older, a2 / dt}, {&rate_old, a3}};
+    for (const auto& [vector, weight] : terms)
+      if (weight != 0)
+        {
+          v = *vector;
+          r.add(weight, v);
+        }
+    out = r;
   }
 
   void FluidProperties::check() const
@@ -152,7 +173,7 @@ namespace physics::fsi
       const ShapeData<dim>*   mesh = nullptr; ///< null: mesh at rest
       std::vector<double>     JxW;            ///< reference dX weights
       std::vector<Point<dim>> X;              ///< reference quadrature points
-      // History of the time derivative: a1 x_n + a2 x_{n-1} per local DOF (fluid, mesh)
+      // History of the time derivative: a1 x_n + a2 x_{n-1} + a3 dt r_n per local DOF (fluid, mesh)
       std::vector<double> fluid_history, mesh_history;
       /// Boundary faces with a prescribed pressure: their shape data, normals and weights.
       struct Face
@@ -167,7 +188,7 @@ namespace physics::fsi
 
     /// The cell residual R_i (fluid DOFs i) for fluid values `u` and mesh displacements `d`.
     template <int dim, typename T>
-    void cell_residual(const CellInput<dim>& in, const FluidModel<dim>& model, const BdfWeights& bdf,
+    void cell_residual(const CellInput<dim>& in, const FluidModel<dim>& model, const TimeStencil& stencil,
                        const std::vector<T>& u, const std::vector<T>& d, std::vector<T>& R)
     {
       const auto&        fl = in.fluid;
@@ -216,7 +237,7 @@ namespace physics::fsi
               if (a < dim)
                 {
                   vel[a] += u[i] * fl.value[q][i];
-                  dudt[a] += (bdf.a0 * u[i] + in.fluid_history[i]) * fl.value[q][i] / dt;
+                  dudt[a] += (stencil.a0 * u[i] + in.fluid_history[i]) * fl.value[q][i] / dt;
                   for (int k = 0; k < dim; ++k)
                     grad_u[a][k] += u[i] * g[q][i][k];
                 }
@@ -227,12 +248,12 @@ namespace physics::fsi
                     grad_p[k] += u[i] * g[q][i][k];
                 }
             }
-          // Convective velocity c = u - w, w the grid velocity from the same BDF stencil.
+          // Convective velocity c = u - w, w the grid velocity from the same time stencil.
           for (int a = 0; a < dim; ++a)
             c[a] = vel[a];
           if (in.mesh != nullptr && transient)
             for (std::size_t j = 0; j < d.size(); ++j)
-              c[in.mesh->component[j]] -= (bdf.a0 * d[j] + in.mesh_history[j]) * in.mesh->value[q][j] / dt;
+              c[in.mesh->component[j]] -= (stencil.a0 * d[j] + in.mesh_history[j]) * in.mesh->value[q][j] / dt;
 
           Vector<double> f(dim);
           if (model.body_force != nullptr)
@@ -254,7 +275,8 @@ namespace physics::fsi
               r_M[a] = rho * ((transient ? dudt[a] : T(0.0)) + conv[a]) + grad_p[a] - rho * f[a];
             }
           const T tau_M =
-              1.0 / sqrt((transient ? 4.0 / (dt * dt) : 0.0) + 4.0 * c2 / h2 + 16.0 * nu * nu / (h2 * h2));
+              1.0 / sqrt((transient && model.tau_with_time_step ? 4.0 / (dt * dt) : 0.0) + 4.0 * c2 / h2 +
+                         16.0 * nu * nu / (h2 * h2));
           const T tau_C = h2 / (4.0 * tau_M);
 
           for (unsigned int i = 0; i < n; ++i)
@@ -314,18 +336,19 @@ namespace physics::fsi
           out[i] = (*v)[dofs[i]];
     }
 
-    /// a1 x_n + a2 x_{n-1} on the cell's DOFs.
+    /// a1 x_n + a2 x_{n-1} + a3 dt r_n on the cell's DOFs (missing vectors read as zero).
     template <int dim>
     void history(const TrilinosWrappers::MPI::Vector* old, const TrilinosWrappers::MPI::Vector* older,
-                 const BdfWeights& bdf, const std::vector<types::global_dof_index>& dofs,
-                 std::vector<double>& out)
+                 const TrilinosWrappers::MPI::Vector* rate, const TimeStencil& stencil, double dt,
+                 const std::vector<types::global_dof_index>& dofs, std::vector<double>& out)
     {
-      std::vector<double> x_old, x_older;
+      std::vector<double> x_old, x_older, r_old;
       read_local<dim>(old, dofs, x_old);
       read_local<dim>(older, dofs, x_older);
+      read_local<dim>(rate, dofs, r_old);
       out.resize(dofs.size());
       for (std::size_t i = 0; i < dofs.size(); ++i)
-        out[i] = bdf.a1 * x_old[i] + bdf.a2 * x_older[i];
+        out[i] = stencil.a1 * x_old[i] + stencil.a2 * x_older[i] + stencil.a3 * dt * r_old[i];
     }
   } // namespace
 
@@ -340,11 +363,14 @@ namespace physics::fsi
     model.properties.check();
     if (model.scheme != FluidTimeScheme::steady && !(model.time_step > 0))
       throw std::invalid_argument("parameter 'Time step' (Fluid): expected a positive number");
+    if (model.scheme == FluidTimeScheme::one_step_theta && !(model.theta >= 0.5 && model.theta <= 1))
+      throw std::invalid_argument("parameter 'Theta' (Time): expected 1/2 <= theta <= 1 (one-step-theta), got " +
+                                  std::to_string(model.theta));
     const bool moving = mesh_dofs != nullptr && state.mesh != nullptr;
     if (shape_derivative != nullptr && (!moving || mesh_constraints == nullptr))
       throw std::invalid_argument(
           "assemble_ale_fluid: shape derivatives need the mesh DoFHandler, state and constraints");
-    const BdfWeights bdf = BdfWeights::of(model.scheme, model.step_ratio());
+    const TimeStencil stencil = model.stencil();
 
     const QGauss<dim>     quadrature(2);
     const QGauss<dim - 1> face_quadrature(2);
@@ -384,7 +410,8 @@ namespace physics::fsi
           in.X   = fluid_values.get_quadrature_points();
           cell->get_dof_indices(fluid_indices);
           read_local<dim>(state.fluid, fluid_indices, u_local);
-          history<dim>(state.fluid_old, state.fluid_older, bdf, fluid_indices, in.fluid_history);
+          history<dim>(state.fluid_old, state.fluid_older, state.fluid_rate, stencil, model.time_step, fluid_indices,
+                       in.fluid_history);
           typename DoFHandler<dim>::active_cell_iterator mesh_cell;
           in.mesh = nullptr;
           d_local.clear();
@@ -397,7 +424,8 @@ namespace physics::fsi
               in.mesh = &mesh_shape;
               mesh_cell->get_dof_indices(mesh_indices);
               read_local<dim>(state.mesh, mesh_indices, d_local);
-              history<dim>(state.mesh_old, state.mesh_older, bdf, mesh_indices, in.mesh_history);
+              history<dim>(state.mesh_old, state.mesh_older, state.mesh_rate, stencil, model.time_step, mesh_indices,
+                           in.mesh_history);
             }
           in.faces.clear();
           for (const unsigned int f : cell->face_indices())
@@ -421,7 +449,7 @@ namespace physics::fsi
 
           if (jacobian == nullptr && !with_shape)
             {
-              cell_residual<dim, double>(in, model, bdf, u_local, d_local, R_local);
+              cell_residual<dim, double>(in, model, stencil, u_local, d_local, R_local);
               for (unsigned int i = 0; i < nf; ++i)
                 r_local[i] = R_local[i];
               constraints.distribute_local_to_global(r_local, fluid_indices, residual);
@@ -434,7 +462,7 @@ namespace physics::fsi
             u_ad[i] = AD(n_independent, i, u_local[i]);
           for (std::size_t j = 0; j < d_local.size(); ++j)
             d_ad[j] = with_shape ? AD(n_independent, nf + j, d_local[j]) : AD(d_local[j]);
-          cell_residual<dim, AD>(in, model, bdf, u_ad, d_ad, R_ad);
+          cell_residual<dim, AD>(in, model, stencil, u_ad, d_ad, R_ad);
           for (unsigned int i = 0; i < nf; ++i)
             {
               r_local[i] = R_ad[i].val();

@@ -128,7 +128,8 @@ namespace physics::fsi
     mesh_free_.reinit(mesh_relevant_);
     mesh_free_.close();
     fluid_model_.properties = {p_.fluid_density, p_.fluid_viscosity};
-    fluid_model_.scheme     = p_.fluid_bdf2 ? FluidTimeScheme::bdf2 : FluidTimeScheme::bdf1;
+    fluid_model_.scheme     = p_.fluid_scheme;
+    fluid_model_.theta      = p_.fluid_theta;
     DynamicSparsityPattern fluid_pattern(fluid_relevant_),
         shape_pattern(fluid_dofs_.n_dofs(), mesh_dofs_.n_dofs(), fluid_relevant_);
     DoFTools::make_sparsity_pattern(fluid_dofs_, fluid_pattern, fluid_constraints_, false);
@@ -163,14 +164,14 @@ namespace physics::fsi
       if (mesh_owned_.is_element(m))
         for (const auto& [s, w] : row)
           solid_ghosts_.add_index(s);
-    for (auto* v : {&d_S_, &d_S_old_, &d_S_older_, &d_S_begin_, &dd_S_})
+    for (auto* v : {&d_S_, &d_S_old_, &d_S_older_, &d_S_rate_, &d_S_begin_, &dd_S_})
       v->reinit(solid_owned_, comm_);
     d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
     u_interface_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
-    for (auto* v : {&x_F_, &x_F_old_, &x_F_older_, &x_F_begin_, &dx_F_})
+    for (auto* v : {&x_F_, &x_F_old_, &x_F_older_, &x_F_rate_, &x_F_begin_, &dx_F_})
       v->reinit(fluid_owned_, comm_);
     x_F_ghosted_.reinit(fluid_owned_, fluid_relevant_, comm_);
-    for (auto* v : {&d_G_, &d_G_old_, &d_G_older_, &d_G_begin_, &dd_G_})
+    for (auto* v : {&d_G_, &d_G_old_, &d_G_older_, &d_G_rate_, &d_G_begin_, &dd_G_})
       v->reinit(mesh_owned_, comm_);
     d_G_ghosted_.reinit(mesh_owned_, mesh_relevant_, comm_);
   }
@@ -349,14 +350,11 @@ namespace physics::fsi
   void CondensedFsi<dim>::sync_interface()
   {
     // The kinematic condition u^F_Gamma = d/dt d^S_Gamma through the fluid's time integrator
-    // (BDF: (a0 d_{n+1} + a1 d_n + a2 d_{n-1}) / dt), the stencil of the grid velocity: the
-    // fluid on the wall moves with the mesh (no flow through the moving wall), so that
-    // inflow - outflow = volume change holds for the discrete fluid (record_step logs it).
-    const BdfWeights              bdf = BdfWeights::of(fluid_model_.scheme, fluid_model_.step_ratio());
-    const double                  dt  = dynamics_->scheme().time_step();
-    TrilinosWrappers::MPI::Vector v(d_S_);
-    v *= bdf.a0 / dt;
-    v.add(bdf.a1 / dt, d_S_old_, bdf.a2 / dt, d_S_older_);
+    // ((a0 d_{n+1} + a1 d_n + a2 d_{n-1}) / dt + a3 r_n, ale_fluid.h), the stencil of the grid
+    // velocity: the fluid on the wall moves with the mesh (no flow through the moving wall), so
+    // that inflow - outflow = volume change holds for the discrete fluid (record_step logs it).
+    TrilinosWrappers::MPI::Vector v(solid_owned_, comm_);
+    fluid_model_.stencil().rate(d_S_, d_S_old_, d_S_older_, d_S_rate_, dynamics_->scheme().time_step(), v);
     u_interface_ghosted_ = v;
     d_S_ghosted_         = d_S_;
     for (const auto& [f, row] : fluid_partner_)
@@ -386,14 +384,15 @@ namespace physics::fsi
                                          TrilinosWrappers::SparseMatrix*  S,
                                          const AffineConstraints<double>* constraints)
   {
-    TrilinosWrappers::MPI::Vector old(fluid_owned_, fluid_relevant_, comm_),
-        older(fluid_owned_, fluid_relevant_, comm_), mesh_old(mesh_owned_, mesh_relevant_, comm_),
-        mesh_older(mesh_owned_, mesh_relevant_, comm_);
+    TrilinosWrappers::MPI::Vector old(fluid_owned_, fluid_relevant_, comm_), older(old), rate(old),
+        mesh_old(mesh_owned_, mesh_relevant_, comm_), mesh_older(mesh_old), mesh_rate(mesh_old);
     old        = x_F_old_;
     older      = x_F_older_;
+    rate       = x_F_rate_;
     mesh_old   = d_G_old_;
     mesh_older = d_G_older_;
-    FluidState<dim> state{&x_F_ghosted_, &old, &older, &d_G_ghosted_, &mesh_old, &mesh_older};
+    mesh_rate  = d_G_rate_;
+    FluidState<dim> state{&x_F_ghosted_, &old, &older, &d_G_ghosted_, &mesh_old, &mesh_older, &rate, &mesh_rate};
     R.reinit(fluid_owned_, comm_);
     if (K != nullptr)
       *K = 0;
@@ -408,8 +407,7 @@ namespace physics::fsi
   {
     const double w   = dynamics_->scheme().force_weight(); // 1 - af
     const double af  = 1.0 - w;
-    const double tau = BdfWeights::of(fluid_model_.scheme, fluid_model_.step_ratio()).a0 /
-                       dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
+    const double tau = fluid_model_.stencil().a0 / dynamics_->scheme().time_step(); // du_Gamma/dd_Gamma
 
     // Structure: w r(d) + c_m M d + h_n, its Jacobian w K + c_m M.
     TrilinosWrappers::MPI::Vector r_S(solid_owned_, comm_), R_F, R_G(mesh_owned_, comm_);

@@ -3,13 +3,17 @@
 // from the common layer), the ALE fluid (ale_fluid.h) and the pseudo-elastic mesh
 // (ale_mesh_motion.h) in one Newton iteration, the interface traction eliminated:
 //
-//   kinematic:  u^F_Gamma = d/dt d^S_Gamma through the fluid's BDF (the grid velocity's stencil):
-//               (a0 d^S_{n+1} + a1 d^S_n + a2 d^S_{n-1}) / dt,          tau = a0 / dt,
+//   kinematic:  u^F_Gamma = d/dt d^S_Gamma through the fluid's time stencil (the grid velocity's;
+//               ale_fluid.h): (a0 d^S_{n+1} + a1 d^S_n + a2 d^S_{n-1}) / dt + a3 r_n,  tau = a0 / dt,
 //   geometric:  d^G_Gamma = d^S_Gamma,
 //   dynamic:    the fluid's interface rows R^F_Gamma (the traction lambda the structure exerts on
-//               the fluid, at t_{n+1}: the fluid residual is BDF) act on the structure as -lambda;
-//               generalized-alpha evaluates forces at t_{n+1-af}, so the structure interface rows
-//               become  R^S_Gamma + (1 - af) R^F_Gamma + af lambda_n   (the seeds' (1-a)/(1-b), b = 0).
+//               the fluid, at t_{n+1}: BDF and one-step-theta in rate form are balances at
+//               t_{n+1}) act on the structure as -lambda; generalized-alpha evaluates forces at
+//               t_{n+1-af}, so the structure interface rows become
+//                 R^S_Gamma + (1 - af) R^F_Gamma + af lambda_n,
+//               the seeds' (1-a)/(1-b) with b = 0. (The seeds' b = 1 - theta weights the
+//               theta-weighted fluid residual, theta R^F_Gamma + (1 - theta) lambda_n in these
+//               terms; eliminating lambda_{n+1} from it gives the same rows.)
 // On non-matching interface meshes (Coupling/Interface = dual mortar) the fluid's interface
 // values are P = D^-1 M times the structure's (u^F_Gamma = tau P d^S_Gamma + ..., d^G_Gamma = P
 // d^S_Gamma) and its interface rows reach the structure as P^T R^F_Gamma; matching nodes are the
@@ -40,6 +44,7 @@
 #include "common/solver_parameters.h"
 #include "common/parameter_sections.h"
 #include "common/step_driver.h"
+#include "fsi/ale_fluid.h"
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -81,7 +86,9 @@ namespace physics::fsi
     bool   parabolic_inflow     = false; ///< a parabolic inflow velocity instead of the pressure pulse
     double mean_inflow_velocity = 0.2, inflow_ramp_time = 0;
     std::vector<double> monitor_point; ///< a structure node's reference position (empty: none)
-    bool   fluid_bdf2        = false; ///< the fluid's (and the interface velocity's) BDF2 instead of BDF1
+    /// The fluid's (and the grid and interface velocities') time derivative (ale_fluid.h).
+    FluidTimeScheme fluid_scheme = FluidTimeScheme::bdf1;
+    double          fluid_theta  = 0.5; ///< one-step-theta's theta
     bool   shape_derivatives = true;
     bool   dual_mortar       = false; ///< the interface by dual mortar (non-matching meshes)
     bool   check_jacobian    = false; ///< testing: J v against central differences in step 2

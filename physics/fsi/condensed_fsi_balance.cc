@@ -93,13 +93,16 @@ namespace physics::fsi
 
     const FluidBalance b        = fluid_balance();
     const double       dt       = fluid_model_.time_step;
-    const BdfWeights   bdf      = BdfWeights::of(fluid_model_.scheme, fluid_model_.step_ratio());
-    const double       change   = bdf.a0 * b.volume + bdf.a1 * volume_old_ + bdf.a2 * volume_older_;
+    // The volume's rate through the fluid's stencil, as the interface velocity's: with it the
+    // discrete balance dV/dt = Q_in - Q_out holds up to the geometric nonlinearity of V.
+    const double       rate     = fluid_model_.stencil().rate(b.volume, volume_old_, volume_older_, volume_rate_, dt);
+    const double       change   = dt * rate;
     const double       net      = dt * (b.inflow - b.outflow);
     const double       balance  = change - net;
     const double       relative = std::abs(balance) / std::max(std::abs(dt * b.inflow), 1e-300);
     volume_older_               = volume_old_;
     volume_old_                 = b.volume;
+    volume_rate_                = rate;
     if (p_.parabolic_inflow || fluid_model_.boundary_pressures.at(boundary::inlet) != 0)
       max_mass_imbalance_ = std::max(max_mass_imbalance_, relative);
     JsonLinesLog::Line line;
@@ -142,7 +145,8 @@ namespace physics::fsi
             {"d_S_older", &CondensedFsi::d_S_older_}, {"x_F", &CondensedFsi::x_F_},
             {"x_F_old", &CondensedFsi::x_F_old_},     {"x_F_older", &CondensedFsi::x_F_older_},
             {"d_G", &CondensedFsi::d_G_},         {"d_G_old", &CondensedFsi::d_G_old_},
-            {"d_G_older", &CondensedFsi::d_G_older_}};
+            {"d_G_older", &CondensedFsi::d_G_older_}, {"d_S_rate", &CondensedFsi::d_S_rate_},
+            {"x_F_rate", &CondensedFsi::x_F_rate_},   {"d_G_rate", &CondensedFsi::d_G_rate_}};
   }
 
   template <int dim>
@@ -162,7 +166,7 @@ namespace physics::fsi
     c.store("fsi/lambda_old", lambda_old_);
     c.set("fsi/steps_done", steps_done_);
     c.set("fsi/max_wall_displacement", max_wall_displacement_);
-    c.set("fsi/volumes", std::vector<double>{volume_old_, volume_older_});
+    c.set("fsi/volumes", std::vector<double>{volume_old_, volume_older_, volume_rate_});
     c.set("fsi/last_time_step", last_time_step_);
     c.set("fsi/max_mass_imbalance", max_mass_imbalance_);
     c.set_text("fsi/fluid_vtk", fluid_vtk_->entries());
@@ -196,6 +200,7 @@ namespace physics::fsi
     const auto& volumes    = c.numbers("fsi/volumes");
     volume_old_            = volumes.at(0);
     volume_older_          = volumes.at(1);
+    volume_rate_           = volumes.at(2);
     last_time_step_        = c.number("fsi/last_time_step");
     max_mass_imbalance_    = c.number("fsi/max_mass_imbalance");
     fluid_vtk_->restore(c.text("fsi/fluid_vtk"));

@@ -158,6 +158,9 @@ namespace physics::fsi
     dealii::TrilinosWrappers::MPI::Vector d_S_, d_S_old_, d_S_older_, d_S_ghosted_, u_interface_ghosted_;
     dealii::TrilinosWrappers::MPI::Vector x_F_, x_F_old_, x_F_older_, x_F_ghosted_;
     dealii::TrilinosWrappers::MPI::Vector d_G_, d_G_old_, d_G_older_, d_G_ghosted_;
+    /// Rates at t_n through the fluid's stencil (one-step-theta carries them): the interface
+    /// velocity in the structure's numbering, d(u, p)/dt, the grid velocity.
+    dealii::TrilinosWrappers::MPI::Vector d_S_rate_, x_F_rate_, d_G_rate_;
     std::map<GlobalIndex, double>         lambda_old_; ///< lambda_n on the owned structure interface DOFs
     // The step in progress and the Newton direction (line search)
     dealii::TrilinosWrappers::MPI::Vector d_S_begin_, x_F_begin_, d_G_begin_, dd_S_, dx_F_, dd_G_;
@@ -183,6 +186,7 @@ namespace physics::fsi
     std::vector<double>   station_x_;                         ///< ascending
     std::vector<int>      station_count_;                     ///< interface nodes per station, all ranks
     double                volume_old_ = 0, volume_older_ = 0; ///< fluid volume at t_n, t_{n-1}
+    double                volume_rate_ = 0; ///< dV/dt at t_n through the fluid's stencil
     double                max_mass_imbalance_ = 0; ///< relative, over the steps with inlet pressure
     std::ofstream         wall_csv_;               ///< rank 0
     // Inflow, forces and monitor point (condensed_fsi_forces.cc)

@@ -158,6 +158,12 @@ namespace physics::fsi
     lambda_old_ = send_entries_to_owners(
         lambda, [&](GlobalIndex g) { return owning_rank(solid_owned_per_rank_, g); }, comm_);
     dynamics_->end_step(d_S_);
+    // The rates at t_{n+1} before the states shift (one-step-theta's r_n of the next step).
+    const TimeStencil stencil = fluid_model_.stencil();
+    const double      dt      = fluid_model_.time_step;
+    stencil.rate(d_S_, d_S_old_, d_S_older_, d_S_rate_, dt, d_S_rate_);
+    stencil.rate(x_F_, x_F_old_, x_F_older_, x_F_rate_, dt, x_F_rate_);
+    stencil.rate(d_G_, d_G_old_, d_G_older_, d_G_rate_, dt, d_G_rate_);
     d_S_older_ = d_S_old_;
     x_F_older_ = x_F_old_;
     x_F_old_   = x_F_;

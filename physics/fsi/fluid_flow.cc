@@ -80,10 +80,10 @@ namespace physics::fsi
     SparsityTools::distribute_sparsity_pattern(pattern, owned_, comm_, relevant_);
     jacobian_.reinit(owned_, owned_, pattern, comm_);
 
-    for (auto* v : {&solution_, &old_, &older_, &begin_, &direction_, &residual_})
+    for (auto* v : {&solution_, &old_, &older_, &rate_, &begin_, &direction_, &residual_})
       v->reinit(owned_, comm_);
     ghosted_.reinit(owned_, relevant_, comm_);
-    for (auto* v : {&mesh_, &mesh_old_, &mesh_older_})
+    for (auto* v : {&mesh_, &mesh_old_, &mesh_older_, &mesh_rate_})
       v->reinit(mesh_owned_, mesh_relevant_, comm_);
     if (s_.pseudo_elastic)
       mesh_motion_ = std::make_unique<AleMeshMotion<dim>>(mesh_dofs_, *s_.pseudo_elastic, comm_);
@@ -174,6 +174,16 @@ namespace physics::fsi
   template <int dim>
   void FluidFlow<dim>::end_step(int /*number*/, double /*time*/)
   {
+    // The rates at t_{n+1} (one-step-theta carries them; the BDF stencils ignore them).
+    const FluidModel<dim> model   = step_model();
+    const TimeStencil     stencil = model.stencil();
+    stencil.rate(solution_, old_, older_, rate_, model.time_step, rate_);
+    if (s_.mesh_motion)
+      {
+        TrilinosWrappers::MPI::Vector w(mesh_owned_, comm_);
+        stencil.rate(mesh_, mesh_old_, mesh_older_, mesh_rate_, model.time_step, w);
+        mesh_rate_ = w;
+      }
     older_      = old_;
     old_        = solution_;
     mesh_older_ = mesh_old_;
@@ -182,24 +192,34 @@ namespace physics::fsi
   }
 
   template <int dim>
-  void FluidFlow<dim>::assemble(bool with_jacobian)
+  FluidModel<dim> FluidFlow<dim>::step_model() const
   {
     FluidModel<dim> model = s_.model;
     if (model.scheme == FluidTimeScheme::bdf2 && steps_done_ == 0)
       model.scheme = FluidTimeScheme::bdf1;
+    return model;
+  }
+
+  template <int dim>
+  void FluidFlow<dim>::assemble(bool with_jacobian)
+  {
+    const FluidModel<dim>         model = step_model();
     TrilinosWrappers::MPI::Vector old_ghosted(owned_, relevant_, comm_),
-        older_ghosted(owned_, relevant_, comm_);
+        older_ghosted(owned_, relevant_, comm_), rate_ghosted(owned_, relevant_, comm_);
     old_ghosted   = old_;
     older_ghosted = older_;
+    rate_ghosted  = rate_;
     FluidState<dim> state;
     state.fluid       = &ghosted_;
     state.fluid_old   = &old_ghosted;
     state.fluid_older = &older_ghosted;
+    state.fluid_rate  = &rate_ghosted;
     if (s_.mesh_motion)
       {
         state.mesh       = &mesh_;
         state.mesh_old   = &mesh_old_;
         state.mesh_older = &mesh_older_;
+        state.mesh_rate  = &mesh_rate_;
       }
     residual_ = 0;
     if (with_jacobian)

@@ -77,8 +77,8 @@ namespace physics::fsi
     /// The grid displacement d^G of the current step (ghosted) on its DoFHandler.
     const dealii::TrilinosWrappers::MPI::Vector& mesh_displacement() const { return mesh_; }
     const dealii::DoFHandler<dim>&               mesh_dof_handler() const { return mesh_dofs_; }
-    /// Sets the iterate and the history of the time derivative to `initial`, the mesh and its
-    /// history to the motion at t = 0.
+    /// Sets the iterate and the history of the time derivative to `initial` (at rest in time:
+    /// zero rates), the mesh and its history to the motion at t = 0.
     void set_initial_state(const dealii::Function<dim>& initial);
     /// ||R|| of the current iterate (no Jacobian): for consistency checks.
     double residual_norm();
@@ -93,6 +93,8 @@ namespace physics::fsi
     /// Dirichlet values of time `time` into `values` (inhomogeneous) and the iterate.
     void                   apply_dirichlet(double time);
     void                   assemble(bool with_jacobian);
+    /// The model of the current step (BDF2's first step is BDF1).
+    FluidModel<dim> step_model() const;
     multigrid::BlockSystem block_system() const;
     void                   update_ghosts();
     /// d^G at `time`: the prescribed motion, or its boundary values extended pseudo-elastically.
@@ -107,7 +109,8 @@ namespace physics::fsi
     dealii::IndexSet                       pressure_dofs_; ///< owned pressure DOFs (the continuity field)
     dealii::TrilinosWrappers::SparseMatrix jacobian_;
     dealii::TrilinosWrappers::MPI::Vector  solution_, ghosted_, old_, older_, begin_, direction_, residual_;
-    dealii::TrilinosWrappers::MPI::Vector  mesh_, mesh_old_, mesh_older_; ///< ghosted d^G
+    dealii::TrilinosWrappers::MPI::Vector  rate_; ///< d(u, p)/dt at t_n (one-step-theta)
+    dealii::TrilinosWrappers::MPI::Vector  mesh_, mesh_old_, mesh_older_, mesh_rate_; ///< ghosted d^G, w_n
     double                                 update_length_ = 1;
     int                                    steps_done_    = 0;
     multigrid::BlockSystem                 system_;

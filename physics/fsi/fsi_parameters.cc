@@ -81,13 +81,19 @@ namespace physics::fsi
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
-    prm.declare_entry("Time step", "1e-4", Double(), "dt (> 0; s). Fluid BDF1, structure generalized-alpha.");
+    prm.declare_entry("Time step", "1e-4", Double(),
+                      "dt (> 0; s). Fluid by 'Fluid scheme', structure generalized-alpha.");
     prm.declare_entry("End time", "1e-3", Double(), "Final time (> 0; s).");
     prm.declare_entry(
-        "Fluid scheme", "BDF1", dealii::Patterns::Selection("BDF1|BDF2"),
-        "Time derivative of the fluid, the grid velocity and the interface velocity: backward Euler "
-        "or BDF2 (second order, with the weights of unequal steps after a step cut; the first step takes "
-        "the rest state as both earlier states).");
+        "Fluid scheme", "BDF1", dealii::Patterns::Selection("BDF1|BDF2|one-step-theta"),
+        "Time derivative of the fluid, the grid velocity and the interface velocity: backward Euler, "
+        "BDF2 (second order, with the weights of unequal steps after a step cut; the first step takes "
+        "the rest state as both earlier states) or one-step-theta (the seeds' fluid integrator, in rate "
+        "form: x_{n+1} = x_n + dt (theta r_{n+1} + (1 - theta) r_n), the rates carried from step to "
+        "step, zero at the start; every step size works).");
+    prm.declare_entry("Theta", "0.5", Double(),
+                      "theta of one-step-theta (1/2 <= theta <= 1): 1/2 the trapezoidal rule (second "
+                      "order, no numerical damping), 1 backward Euler. Read only with that scheme.");
     prm.declare_entry(
         "Spectral radius", "1", Double(0, 1),
         "rho_inf of the structure's generalized-alpha (0 <= rho <= 1; 1: no numerical dissipation).");
@@ -168,7 +174,14 @@ namespace physics::fsi
     time_step       = positive(prm.get_double("Time step"), "Time step (Time)");
     end_time        = positive(prm.get_double("End time"), "End time (Time)");
     spectral_radius = prm.get_double("Spectral radius");
-    fluid_bdf2      = prm.get("Fluid scheme") == "BDF2";
+    const std::string scheme = prm.get("Fluid scheme");
+    fluid_scheme             = scheme == "BDF2"             ? FluidTimeScheme::bdf2
+                               : scheme == "one-step-theta" ? FluidTimeScheme::one_step_theta
+                                                            : FluidTimeScheme::bdf1;
+    fluid_theta              = prm.get_double("Theta");
+    if (fluid_scheme == FluidTimeScheme::one_step_theta && !(fluid_theta >= 0.5 && fluid_theta <= 1))
+      throw std::invalid_argument("parameter 'Theta' (Time): expected 1/2 <= theta <= 1, got " +
+                                  prm.get("Theta"));
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
