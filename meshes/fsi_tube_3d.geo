@@ -23,14 +23,17 @@
 // Wall thickness: -setnumber wall H (default 0.1 cm, the benchmark's). A thinner wall with E h
 // kept (E = 3e6 x 0.1 / H) has the same Moens-Korteweg speed and a smaller thick-wall correction:
 // the check that the measured speed tends to the thin-wall formula as h / R -> 0 (README).
-DefineConstant[ refine = 1, wall_cells = 0, wall = 0.1 ];
-L = 5; R = 0.5; h = wall;
+// Length: -setnumber length L (default 5 cm) with 4 refine cells per cm along the tube (the
+// cross-section unchanged): the DOFs grow in proportion to L (weak-scaling studies, a longer
+// record of the pulse).
+DefineConstant[ refine = 1, wall_cells = 0, wall = 0.1, length = 5 ];
+L = length; R = 0.5; h = wall;
 layer = 0.02 / refine; // thickness of the fluid cells at the wall (halves with the rest)
 s = 0.35 * R;          // half side of the core square
 nq = 2 * refine;       // cells per quarter of the circumference (and per side of the core)
 nr = refine;           // cells from the core to the wall layer
 nw = refine;           // cells through the wall
-nx = 20 * refine;      // cells along the tube
+nx = Floor(4 * refine * L + 0.5); // cells along the tube (20 refine for L = 5)
 
 nxw = wall_cells > 0 ? wall_cells : nx; // cells along the wall
 apart = wall_cells > 0;                  // the wall on an interface surface of its own

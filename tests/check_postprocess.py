@@ -185,7 +185,8 @@ def sbatch_values(path):
 
 def slurm(args):
     scripts = []
-    for cls, dofs, ranks in (("contact3d", 20000, [1, 2, 4, 8, 64]), ("beam_solid", 20000, [1, 2, 4, 8, 64])):
+    for cls, dofs, ranks in (("contact3d", 20000, [1, 2, 4, 8, 64]), ("beam_solid", 20000, [1, 2, 4, 8, 64]),
+                             ("fsi", 20000, [1, 2, 4, 8, 64])):
         out = os.path.join(args.work, cls)
         proc = tool("weak_scaling.py", "slurm", cls, "--dofs-per-rank", dofs, "--ranks", *ranks,
                     "--tasks-per-node", 16, "--out", out, "--partition", "batch")
@@ -206,14 +207,15 @@ def slurm(args):
     seeds = os.path.join(args.work, "seeds")
     proc = tool("weak_scaling.py", "seeds", "--out", seeds)
     for pattern in (r"7900000 +158 +50000 .*per rank", r"26398995 +1000 +26399 .*per rank",
-                    r"15800000 +316 +50000 +no script"):
+                    r"15800000 +316 +50000 .*26029 cells along: 15800210 DOFs, 50001 per rank"):
         check(re.search(pattern, proc.stdout), f"seeds: no line matching '{pattern}' in\n{proc.stdout}")
-    scripts += [os.path.join(seeds, "contact3d", "job_np158.sbatch"), os.path.join(seeds, "beam_solid", "job_np1000.sbatch")]
+    scripts += [os.path.join(seeds, "contact3d", "job_np158.sbatch"), os.path.join(seeds, "beam_solid", "job_np1000.sbatch"),
+                os.path.join(seeds, "fsi", "job_np316.sbatch")]
     for path in scripts:
         if check(os.path.exists(path), f"{path}: not written"):
             proc = subprocess.run(["bash", "-n", path], capture_output=True, text=True)
             check(proc.returncode == 0, f"bash -n {path}: {proc.stderr.strip()}")
-    check(len(scripts) >= 16, f"only {len(scripts)} scripts checked")
+    check(len(scripts) >= 24, f"only {len(scripts)} scripts checked")
     if args.build:
         run_job_script(args)
 

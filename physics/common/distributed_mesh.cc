@@ -76,7 +76,7 @@ namespace physics
   }
 
   template <int dim>
-  void read_distributed_mesh(const std::string& file, int gmsh_refinement, int global_refinements,
+  void read_distributed_mesh(const std::string& file, const GmshSource& gmsh, int global_refinements,
                              const std::string& work_directory,
                              dealii::parallel::fullydistributed::Triangulation<dim>& tria)
   {
@@ -90,7 +90,7 @@ namespace physics
         create_distributed_mesh<dim>(
             tria,
             [&](dealii::Triangulation<dim>& serial) {
-              read_mesh(file, gmsh_refinement, work_directory, serial, roots);
+              read_mesh(file, gmsh, work_directory, serial, roots);
               serial.refine_global(global_refinements);
             },
             group_size);
@@ -144,8 +144,8 @@ namespace physics
                                                  dealii::AffineConstraints<double>&);
   template void close_distributed_constraints<3>(const dealii::DoFHandler<3>&, const dealii::IndexSet&,
                                                  dealii::AffineConstraints<double>&);
-  template void read_distributed_mesh<2>(const std::string&, int, int, const std::string&,
+  template void read_distributed_mesh<2>(const std::string&, const GmshSource&, int, const std::string&,
                                          dealii::parallel::fullydistributed::Triangulation<2>&);
-  template void read_distributed_mesh<3>(const std::string&, int, int, const std::string&,
+  template void read_distributed_mesh<3>(const std::string&, const GmshSource&, int, const std::string&,
                                          dealii::parallel::fullydistributed::Triangulation<3>&);
 } // namespace physics

@@ -11,6 +11,8 @@
 // matrices and hierarchies, which are distributed.
 #pragma once
 
+#include "common/mesh_input.h"
+
 #include <deal.II/base/function.h>
 #include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -34,10 +36,10 @@ namespace physics
                                const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
                                unsigned int group_size = 0);
 
-  /// `create_distributed_mesh` of the gmsh mesh `file` (.geo meshed with `-setnumber refine
-  /// gmsh_refinement`, or .msh), refined `global_refinements` times before it is partitioned.
+  /// `create_distributed_mesh` of the gmsh mesh `file` (.geo meshed with `gmsh`'s refinement and
+  /// variables, or .msh), refined `global_refinements` times before it is partitioned.
   template <int dim>
-  void read_distributed_mesh(const std::string& file, int gmsh_refinement, int global_refinements,
+  void read_distributed_mesh(const std::string& file, const GmshSource& gmsh, int global_refinements,
                              const std::string& work_directory,
                              dealii::parallel::fullydistributed::Triangulation<dim>& tria);
 

@@ -7,6 +7,7 @@
 #include <deal.II/grid/grid_in.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -53,9 +54,11 @@ namespace physics
     /// Rank 0 only: meshes `geo` with gmsh in a fresh temporary directory under `work_directory`
     /// and returns the mesh text. The directory is removed, except, when gmsh fails, its log
     /// (named in the message of the std::invalid_argument thrown then).
-    std::string run_gmsh(const std::string& geo, int dimension, int refinement,
+    std::string run_gmsh(const std::string& geo, int dimension, const GmshSource& source,
                          const std::string& work_directory)
     {
+      source.check_variables_in(geo, read_whole_file(geo));
+      const int       refinement = source.refinement;
       std::error_code ec;
       fs::create_directories(work_directory, ec);
       const std::string stem = fs::path(geo).stem().string();
@@ -66,9 +69,8 @@ namespace physics
         throw std::invalid_argument(geo + ": cannot create a temporary directory for gmsh in " +
                                     work_directory + " (" + std::strerror(errno) + ")");
       const std::string msh = name + "/mesh.msh", log = name + "/gmsh.log";
-      const std::string cmd = "gmsh -" + std::to_string(dimension) + " -setnumber refine " +
-                              std::to_string(refinement) + " -format msh22 " + quoted(geo) + " -o " +
-                              quoted(msh) + " > " + quoted(log) + " 2>&1";
+      const std::string cmd = "gmsh -" + std::to_string(dimension) + source.setnumbers() + " -format msh22 " +
+                              quoted(geo) + " -o " + quoted(msh) + " > " + quoted(log) + " 2>&1";
       if (std::system(cmd.c_str()) != 0 || !fs::is_regular_file(msh))
         {
           fs::remove(msh, ec);
@@ -81,7 +83,7 @@ namespace physics
 
     /// The text of the mesh gmsh makes of `geo` on rank 0, on every rank; an error on rank 0 is
     /// thrown on every rank.
-    std::string gmsh_mesh_text(const std::string& geo, int dimension, int refinement,
+    std::string gmsh_mesh_text(const std::string& geo, int dimension, const GmshSource& source,
                                const std::string& work_directory, MPI_Comm comm)
     {
       std::string text, error;
@@ -89,7 +91,7 @@ namespace physics
         {
           try
             {
-              text = run_gmsh(geo, dimension, refinement, work_directory);
+              text = run_gmsh(geo, dimension, source, work_directory);
             }
           catch (const std::invalid_argument& e)
             {
@@ -108,6 +110,41 @@ namespace physics
       return fs::path(file).extension() == ".geo";
     }
   } // namespace
+
+  std::string GmshSource::setnumbers() const
+  {
+    std::ostringstream s;
+    s.precision(17);
+    s << " -setnumber refine " << refinement;
+    for (const auto& [name, value] : variables)
+      s << " -setnumber " << name << " " << value;
+    return s.str();
+  }
+
+  std::string GmshSource::describe() const
+  {
+    std::ostringstream s;
+    s << "refine " << refinement;
+    for (const auto& [name, value] : variables)
+      s << ", " << name << " " << value;
+    return s.str();
+  }
+
+  void GmshSource::check_variables_in(const std::string& file, const std::string& geo) const
+  {
+    // A whole word of the source: not a part of a longer name.
+    const auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (const auto& [name, value] : variables)
+      {
+        bool found = false;
+        for (auto at = geo.find(name); at != std::string::npos && !found; at = geo.find(name, at + 1))
+          found = (at == 0 || !is_name_char(geo[at - 1])) &&
+                  (at + name.size() == geo.size() || !is_name_char(geo[at + name.size()]));
+        if (!found)
+          throw std::invalid_argument("parameter 'Gmsh variables' (Mesh): " + file + " has no variable '" + name +
+                                      "'");
+      }
+  }
 
   MeshFile::MeshFile(std::string path, bool temporary)
       : path_(std::move(path))
@@ -131,17 +168,17 @@ namespace physics
       }
   }
 
-  MeshFile gmsh_mesh(const std::string& file, int dimension, int refinement,
+  MeshFile gmsh_mesh(const std::string& file, int dimension, const GmshSource& source,
                      const std::string& work_directory, MPI_Comm comm)
   {
     if (!fs::is_regular_file(file))
       throw std::invalid_argument(file + ": mesh file not found");
     if (!is_gmsh_source(file))
       return MeshFile(file, false);
-    const std::string text = gmsh_mesh_text(file, dimension, refinement, work_directory, comm);
+    const std::string text = gmsh_mesh_text(file, dimension, source, work_directory, comm);
     // Every rank its own copy: none waits for another before removing it.
     const std::string copy = multigrid::unique_temporary_name(
-        (fs::path(work_directory) / (fs::path(file).stem().string() + "-refine" + std::to_string(refinement)))
+        (fs::path(work_directory) / (fs::path(file).stem().string() + "-refine" + std::to_string(source.refinement)))
             .string(),
         "msh");
     MeshFile      mesh(copy, true);
@@ -153,7 +190,7 @@ namespace physics
   }
 
   template <int dim>
-  void read_mesh(const std::string& file, int refinement, const std::string& work_directory,
+  void read_mesh(const std::string& file, const GmshSource& source, const std::string& work_directory,
                  dealii::Triangulation<dim>& tria, MPI_Comm comm)
   {
     if (!fs::is_regular_file(file))
@@ -161,15 +198,14 @@ namespace physics
     const bool                    geo = is_gmsh_source(file);
     std::unique_ptr<std::istream> in;
     if (geo)
-      in = std::make_unique<std::istringstream>(gmsh_mesh_text(file, dim, refinement, work_directory, comm));
+      in = std::make_unique<std::istringstream>(gmsh_mesh_text(file, dim, source, work_directory, comm));
     else
       {
         in = std::make_unique<std::ifstream>(file);
         if (!*in)
           throw std::invalid_argument(file + ": cannot open the mesh");
       }
-    const std::string source =
-        geo ? file + " (meshed by gmsh, refine " + std::to_string(refinement) + ")" : file;
+    const std::string origin = geo ? file + " (meshed by gmsh, " + source.describe() + ")" : file;
     dealii::GridIn<dim> grid_in;
     grid_in.attach_triangulation(tria);
     try
@@ -185,13 +221,13 @@ namespace physics
         for (auto& c : what)
           if (c == '\n')
             c = ' ';
-        throw std::invalid_argument(source + ": cannot read the mesh as a " + std::to_string(dim) +
+        throw std::invalid_argument(origin + ": cannot read the mesh as a " + std::to_string(dim) +
                                     "D quadrilateral/hexahedral mesh: " + what.substr(0, 200));
       }
   }
 
-  template void read_mesh<2>(const std::string&, int, const std::string&, dealii::Triangulation<2>&,
+  template void read_mesh<2>(const std::string&, const GmshSource&, const std::string&, dealii::Triangulation<2>&,
                              MPI_Comm);
-  template void read_mesh<3>(const std::string&, int, const std::string&, dealii::Triangulation<3>&,
+  template void read_mesh<3>(const std::string&, const GmshSource&, const std::string&, dealii::Triangulation<3>&,
                              MPI_Comm);
 } // namespace physics

@@ -2,6 +2,11 @@
 
 #include "common/parameter_checks.h"
 
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -33,6 +38,10 @@ namespace physics
                           what_groups_mean + " Quadrilaterals/hexahedra.");
     prm.declare_entry("Gmsh refinement", std::to_string(d.gmsh_refinement), dealii::Patterns::Integer(1, 64),
                       "Value of the .geo variable 'refine'.");
+    prm.declare_entry("Gmsh variables", "", dealii::Patterns::Anything(),
+                      "Further variables of a .geo source, 'name=value, name=value' (gmsh -setnumber name "
+                      "value; e.g. 'length=20' for meshes/fsi_tube_3d.geo); each must occur in the .geo file. "
+                      "Empty: none.");
     prm.declare_entry("Global refinements", std::to_string(d.global_refinements), dealii::Patterns::Integer(0, 8),
                       "Uniform refinements after reading the mesh.");
   }
@@ -41,7 +50,54 @@ namespace physics
   {
     mesh_file          = prm.get("Mesh file");
     gmsh_refinement    = prm.get_integer("Gmsh refinement");
+    gmsh_variables     = parse_gmsh_variables(prm.get("Gmsh variables"));
     global_refinements = prm.get_integer("Global refinements");
+  }
+
+  GmshSource MeshParameters::gmsh_source() const
+  {
+    GmshSource s(gmsh_refinement);
+    s.variables = gmsh_variables;
+    return s;
+  }
+
+  std::vector<std::pair<std::string, double>> MeshParameters::parse_gmsh_variables(const std::string& text)
+  {
+    const auto fail = [&](const std::string& why) {
+      return std::invalid_argument("parameter 'Gmsh variables' (Mesh): expected 'name=value, name=value' (" + why +
+                                   "), got '" + text + "'");
+    };
+    std::vector<std::pair<std::string, double>> variables;
+    for (std::string item : dealii::Utilities::split_string_list(text, ','))
+      {
+        const auto equals = item.find('=');
+        if (equals == std::string::npos)
+          throw fail("no '=' in '" + item + "'");
+        const std::string name  = dealii::Utilities::trim(item.substr(0, equals));
+        const std::string value = dealii::Utilities::trim(item.substr(equals + 1));
+        const bool        identifier =
+            !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0])) &&
+            std::all_of(name.begin(), name.end(),
+                        [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+        if (!identifier)
+          throw fail("'" + name + "' is not a name");
+        if (name == "refine")
+          throw fail("'refine' is set by 'Gmsh refinement'");
+        std::size_t used = 0;
+        double      number;
+        try
+          {
+            number = std::stod(value, &used);
+          }
+        catch (const std::exception&)
+          {
+            used = 0;
+          }
+        if (used == 0 || used != value.size() || !std::isfinite(number))
+          throw fail("'" + value + "' is not a number");
+        variables.emplace_back(name, number);
+      }
+    return variables;
   }
 
   void MaterialParameters::declare(dealii::ParameterHandler& prm, const MaterialParameters& d, const std::string& role,

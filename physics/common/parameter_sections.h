@@ -13,6 +13,8 @@
 // add the entries of its generated geometry there.
 #pragma once
 
+#include "common/mesh_input.h"
+
 #include <deal.II/base/parameter_handler.h>
 
 #include <string>
@@ -23,6 +25,8 @@ namespace physics
   {
     std::string mesh_file;              ///< .geo (meshed with gmsh) or .msh
     int         gmsh_refinement    = 1; ///< passed to gmsh as -setnumber refine N (.geo only)
+    /// Further .geo variables, -setnumber NAME VALUE (.geo only; "Gmsh variables").
+    std::vector<std::pair<std::string, double>> gmsh_variables = {};
     int         global_refinements = 0; ///< deal.II refinements after reading
 
     /// The three entries, in the current subsection (the app's "Mesh"); `what_groups_mean` says
@@ -30,6 +34,10 @@ namespace physics
     static void declare_entries(dealii::ParameterHandler& prm, const MeshParameters& defaults,
                                 const std::string& what_groups_mean);
     void        parse_entries(const dealii::ParameterHandler& prm);
+    GmshSource  gmsh_source() const;
+    /// "name=value, name=value" (blanks allowed; empty: none); throws std::invalid_argument
+    /// naming 'Gmsh variables' for anything else, or for 'refine' (that is 'Gmsh refinement').
+    static std::vector<std::pair<std::string, double>> parse_gmsh_variables(const std::string& text);
   };
 
   struct MaterialParameters

@@ -69,7 +69,7 @@ namespace physics::contact
     {
       TimerOutput::Scope scope(timer_, "setup");
       prepare_output_directory(p_.output_directory, comm_);
-      read_distributed_mesh(p_.mesh_file, p_.gmsh_refinement, p_.global_refinements, p_.output_directory, tria_);
+      read_distributed_mesh(p_.mesh_file, p_.gmsh_source(), p_.global_refinements, p_.output_directory, tria_);
       check_boundary_ids();
 
       dof_handler_.distribute_dofs(fe_);

@@ -51,7 +51,7 @@ namespace physics::fsi
     // Both meshes fully distributed: built by the group roots, partitioned by METIS each on its
     // own (common/distributed_mesh.h), so a rank stores only its cells and their ghost layer.
     if (!p_.mesh_file.empty())
-      read_fsi_meshes<dim>(p_.mesh_file, p_.gmsh_refinement, p_.global_refinements, p_.output_directory,
+      read_fsi_meshes<dim>(p_.mesh_file, p_.gmsh_source(), p_.global_refinements, p_.output_directory,
                            fluid_tria_, solid_tria_);
     else if constexpr (dim == 2)
       make_channel_meshes({p_.length, p_.height, p_.wall_thickness, static_cast<unsigned>(p_.cells_x),

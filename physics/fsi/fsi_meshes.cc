@@ -118,7 +118,7 @@ namespace physics::fsi
   } // namespace
 
   template <int dim>
-  void read_fsi_meshes(const std::string& file, int gmsh_refinement, int global_refinements,
+  void read_fsi_meshes(const std::string& file, const GmshSource& gmsh, int global_refinements,
                        const std::string&                              work_directory,
                        parallel::fullydistributed::Triangulation<dim>& fluid,
                        parallel::fullydistributed::Triangulation<dim>& structure)
@@ -128,16 +128,16 @@ namespace physics::fsi
     for (auto [tria, material] : {std::pair{&fluid, 1}, std::pair{&structure, 2}})
       create_distributed_mesh<dim>(*tria, [&](Triangulation<dim>& part) {
         Triangulation<dim> whole;
-        read_mesh(file, gmsh_refinement, work_directory, whole, MPI_COMM_SELF);
+        read_mesh(file, gmsh, work_directory, whole, MPI_COMM_SELF);
         whole.refine_global(global_refinements);
         extract_part(whole, static_cast<types::material_id>(material), part, file);
       });
   }
 
-  template void read_fsi_meshes<2>(const std::string&, int, int, const std::string&,
+  template void read_fsi_meshes<2>(const std::string&, const GmshSource&, int, const std::string&,
                                    parallel::fullydistributed::Triangulation<2>&,
                                    parallel::fullydistributed::Triangulation<2>&);
-  template void read_fsi_meshes<3>(const std::string&, int, int, const std::string&,
+  template void read_fsi_meshes<3>(const std::string&, const GmshSource&, int, const std::string&,
                                    parallel::fullydistributed::Triangulation<3>&,
                                    parallel::fullydistributed::Triangulation<3>&);
 } // namespace physics::fsi

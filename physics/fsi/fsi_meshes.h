@@ -15,6 +15,8 @@
 // Id 0 is left unused: a fully distributed mesh gives it to the outer faces of its ghost layer.
 #pragma once
 
+#include "common/mesh_input.h"
+
 #include <deal.II/distributed/fully_distributed_tria.h>
 
 #include <string>
@@ -38,13 +40,13 @@ namespace physics::fsi
                            dealii::parallel::fullydistributed::Triangulation<2>& fluid,
                            dealii::parallel::fullydistributed::Triangulation<2>& structure);
 
-  /// Reads the gmsh `file` (.geo meshed with `-setnumber refine gmsh_refinement`, or .msh) and
+  /// Reads the gmsh `file` (.geo meshed with `gmsh`'s refinement and variables, or .msh) and
   /// fills `fluid` with its cells of material id 1 and `structure` with those of material id 2
   /// (material id 0 afterwards), after `global_refinements` uniform refinements of the whole, the faces
   /// between the two marked boundary::interface. Throws std::invalid_argument naming the file when a part is
   /// empty, a material id other than 1 or 2 occurs, the parts do not touch, or the fluid has no inlet face.
   template <int dim>
-  void read_fsi_meshes(const std::string& file, int gmsh_refinement, int global_refinements,
+  void read_fsi_meshes(const std::string& file, const GmshSource& gmsh, int global_refinements,
                        const std::string&                                      work_directory,
                        dealii::parallel::fullydistributed::Triangulation<dim>& fluid,
                        dealii::parallel::fullydistributed::Triangulation<dim>& structure);
