@@ -29,7 +29,7 @@ namespace physics
     std::vector<std::pair<std::string, double>> gmsh_variables = {};
     int         global_refinements = 0; ///< deal.II refinements after reading
 
-    /// The three entries, in the current subsection (the app's "Mesh"); `what_groups_mean` says
+    /// The four entries, in the current subsection (the app's "Mesh"); `what_groups_mean` says
     /// what the mesh's physical groups give the app (bodies, boundary ids).
     static void declare_entries(dealii::ParameterHandler& prm, const MeshParameters& defaults,
                                 const std::string& what_groups_mean);
