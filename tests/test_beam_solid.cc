@@ -14,7 +14,6 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/grid_generator.h>
 
-#include <Tpetra_Core.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -194,12 +193,4 @@ TEST(BeamSolid, RefiningTheSolidConverges)
     }
   EXPECT_LT(std::abs(end[2] - end[1]), 0.5 * std::abs(end[1] - end[0]));
   EXPECT_LT(std::abs(fibre[2] - fibre[1]), 0.5 * std::abs(fibre[1] - fibre[0]));
-}
-
-int main(int argc, char** argv)
-{
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Tpetra::ScopeGuard               tpetra(&argc, &argv);
-  ::testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
 }

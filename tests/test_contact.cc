@@ -9,7 +9,6 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <Tpetra_Core.hpp>
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -348,15 +347,4 @@ TEST(ContactBenchmark, OneRankAndAllRanksAgree)
   if (rank == 0)
     std::cout << "GMRES iterations (all Newton steps): " << sum_all << " on all ranks, " << sum_one
               << " on one; |u| " << all.displacement_l2 << " vs " << one.displacement_l2 << "\n";
-}
-
-int main(int argc, char** argv)
-{
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Tpetra::ScopeGuard                       tpetra(&argc, &argv);
-  ::testing::InitGoogleTest(&argc, argv);
-  if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
-    delete ::testing::UnitTest::GetInstance()->listeners().Release(
-        ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
-  return RUN_ALL_TESTS();
 }

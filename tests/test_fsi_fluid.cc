@@ -25,7 +25,6 @@
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
-#include <Tpetra_Core.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -650,15 +649,3 @@ namespace
     EXPECT_LT(exact.linfty_norm(), 1e-12);
   }
 } // namespace
-
-int main(int argc, char** argv)
-{
-  // deal.II initializes MPI and p4est; Tpetra then only initializes Kokkos.
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Tpetra::ScopeGuard               tpetra(&argc, &argv);
-  ::testing::InitGoogleTest(&argc, argv);
-  if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
-    delete ::testing::UnitTest::GetInstance()->listeners().Release(
-        ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
-  return RUN_ALL_TESTS();
-}

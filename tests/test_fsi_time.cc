@@ -17,7 +17,6 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
 
-#include <Tpetra_Core.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -196,14 +195,3 @@ namespace
     EXPECT_GT(error, fine);
   }
 } // namespace
-
-int main(int argc, char** argv)
-{
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Tpetra::ScopeGuard               tpetra(&argc, &argv);
-  ::testing::InitGoogleTest(&argc, argv);
-  if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
-    delete ::testing::UnitTest::GetInstance()->listeners().Release(
-        ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
-  return RUN_ALL_TESTS();
-}

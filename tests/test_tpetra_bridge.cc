@@ -23,7 +23,6 @@
 #include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/numerics/vector_tools.h>
 
-#include <Tpetra_Core.hpp>
 
 #include <map>
 #include <Xpetra_MultiVectorFactory.hpp>
@@ -162,16 +161,4 @@ TEST(TpetraBridge, BlockAMGSolvesTheAssembledSystem)
   EXPECT_TRUE(report.converged);
   EXPECT_LE(report.relative_residual, 1.01e-8);
   EXPECT_GT(report.preconditioner.levels.size(), 1u);
-}
-
-int main(int argc, char** argv)
-{
-  // deal.II initializes MPI and p4est; Tpetra then only initializes Kokkos.
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Tpetra::ScopeGuard               tpetra(&argc, &argv);
-  ::testing::InitGoogleTest(&argc, argv);
-  if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
-    delete ::testing::UnitTest::GetInstance()->listeners().Release(
-        ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
-  return RUN_ALL_TESTS();
 }

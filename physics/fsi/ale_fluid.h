@@ -71,7 +71,8 @@ namespace physics::fsi
   {
     double             a0 = 0, a1 = 0, a2 = 0, a3 = 0;
     static TimeStencil of(FluidTimeScheme scheme, double step_ratio = 1.0, double theta = 1.0);
-    /// The rate at t_{n+1} of x (owned entries): (a0 x + a1 x_old + a2 x_older) / dt + a3 rate_old.
+    /// The rate at t_{n+1} of x: (a0 x + a1 x_old + a2 x_older) / dt + a3 rate_old. Any vector
+    /// may carry ghosts (`out`'s are filled); `out` may be `rate_old`.
     void rate(const dealii::TrilinosWrappers::MPI::Vector& x, const dealii::TrilinosWrappers::MPI::Vector& x_old,
               const dealii::TrilinosWrappers::MPI::Vector& x_older,
               const dealii::TrilinosWrappers::MPI::Vector& rate_old, double dt,

@@ -353,28 +353,24 @@ namespace physics::fsi
     // ((a0 d_{n+1} + a1 d_n + a2 d_{n-1}) / dt + a3 r_n, ale_fluid.h), the stencil of the grid
     // velocity: the fluid on the wall moves with the mesh (no flow through the moving wall), so
     // that inflow - outflow = volume change holds for the discrete fluid (record_step logs it).
-    TrilinosWrappers::MPI::Vector v(solid_owned_, comm_);
-    fluid_model_.stencil().rate(d_S_, d_S_old_, d_S_older_, d_S_rate_, dynamics_->scheme().time_step(), v);
-    u_interface_ghosted_ = v;
-    d_S_ghosted_         = d_S_;
-    for (const auto& [f, row] : fluid_partner_)
-      if (fluid_owned_.is_element(f))
-        {
-          double u = 0;
-          for (const auto& [sd, w] : row)
-            u += w * u_interface_ghosted_[sd];
-          x_F_[f] = u;
-        }
-    for (const auto& [m, row] : mesh_partner_)
-      if (mesh_owned_.is_element(m))
-        {
-          double d = 0;
-          for (const auto& [sd, w] : row)
-            d += w * d_S_ghosted_[sd];
-          d_G_[m] = d;
-        }
-    x_F_.compress(VectorOperation::insert);
-    d_G_.compress(VectorOperation::insert);
+    fluid_model_.stencil().rate(d_S_, d_S_old_, d_S_older_, d_S_rate_, dynamics_->scheme().time_step(),
+                                u_interface_ghosted_);
+    d_S_ghosted_ = d_S_;
+    // target_i = sum_s P_is source_s for the owned interface DOFs i (P's rows: the partners).
+    const auto apply_rows = [](const InterfacePartners& partners, const IndexSet& owned,
+                               const TrilinosWrappers::MPI::Vector& source, TrilinosWrappers::MPI::Vector& target) {
+      for (const auto& [i, row] : partners)
+        if (owned.is_element(i))
+          {
+            double value = 0;
+            for (const auto& [s, w] : row)
+              value += w * source[s];
+            target[i] = value;
+          }
+      target.compress(VectorOperation::insert);
+    };
+    apply_rows(fluid_partner_, fluid_owned_, u_interface_ghosted_, x_F_);
+    apply_rows(mesh_partner_, mesh_owned_, d_S_ghosted_, d_G_);
     x_F_ghosted_ = x_F_;
     d_G_ghosted_ = d_G_;
   }

@@ -179,11 +179,7 @@ namespace physics::fsi
     const TimeStencil     stencil = model.stencil();
     stencil.rate(solution_, old_, older_, rate_, model.time_step, rate_);
     if (s_.mesh_motion)
-      {
-        TrilinosWrappers::MPI::Vector w(mesh_owned_, comm_);
-        stencil.rate(mesh_, mesh_old_, mesh_older_, mesh_rate_, model.time_step, w);
-        mesh_rate_ = w;
-      }
+      stencil.rate(mesh_, mesh_old_, mesh_older_, mesh_rate_, model.time_step, mesh_rate_);
     older_      = old_;
     old_        = solution_;
     mesh_older_ = mesh_old_;
