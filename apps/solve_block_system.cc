@@ -22,6 +22,7 @@
 #include "presets.h"
 #include "trilinos_scope.h"
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
 #include <Teuchos_ParameterListExceptions.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
@@ -66,6 +67,9 @@ Output:
   --json FILE          write the solve report as JSON (atomically)
   --export-system DIR  write the system in the project's format (manifest + Matrix Market)
   --write-solution FILE  write x as a Matrix Market array in the row order of the system's matrix
+  --export-aggregates P  write every field's AMG aggregates on every coarse level as a VTK point
+                       set P.pvtu (+ one .vtu per rank; blocked MueLu presets only) and print,
+                       for contact systems, the aggregates that contain nodes of two bodies
   --print-xml          print the MueLu XML of a saddle-point or fully coupled preset and exit
   --list-presets       list the shipped presets with their descriptions and exit
   --help               this text
@@ -75,7 +79,7 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
 
   struct Options
   {
-    std::string              system, builtin, preset, xml, json, export_dir, solution;
+    std::string              system, builtin, preset, xml, json, export_dir, solution, aggregates;
     std::vector<std::string> overrides;
     multigrid::SolveOptions  solve;
     multigrid::ReadOptions   read;
@@ -119,6 +123,8 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
           o.export_dir = value();
         else if (a == "--write-solution")
           o.solution = value();
+        else if (a == "--export-aggregates")
+          o.aggregates = value();
         else if (a == "--tol")
           o.solve.tolerance = parse_number<double>(a, value());
         else if (a == "--max-iterations")
@@ -151,6 +157,40 @@ Exit status: 0 converged, 1 not converged, 2 bad input.
     if (o.read.dofs_per_node < 1)
       throw multigrid::InputError("--dofs-per-node: expected a positive integer");
     return o;
+  }
+
+  /// The aggregates as a VTK point set and, where the primal block carries body labels, the
+  /// number of aggregates per level that span two bodies (0 where segregation works).
+  void export_aggregates(const multigrid::BlockSystem&         system,
+                         const multigrid::BlockPreconditioner& preconditioner, const std::string& path,
+                         bool root)
+  {
+    const auto& fields = preconditioner.aggregates();
+    multigrid::write_aggregates(system, fields, path);
+    if (!root)
+      std::cout.setstate(std::ios::failbit); // the counts below are collective; rank 0 prints
+    std::cout << "aggregates written to " << path << ".pvtu\n";
+    for (const auto& field : fields)
+      {
+        std::cout << "  block " << field.block << " (" << system.block(field.block).name
+                  << "): aggregates per level";
+        for (const auto& level : field.levels)
+          {
+            long long mine = 0, all = 0;
+            for (const auto id : level)
+              mine = std::max<long long>(mine, id + 1);
+            Teuchos::reduceAll(*system.comm(), Teuchos::REDUCE_MAX, 1, &mine, &all);
+            std::cout << " " << all;
+          }
+        std::cout << "\n";
+      }
+    if (system.has_interface() && !fields.empty())
+      for (std::size_t l = 1; l <= fields.front().levels.size(); ++l)
+        {
+          const auto n = multigrid::aggregates_crossing_bodies(system, fields.front(), static_cast<int>(l));
+          std::cout << "  level " << l << ": " << n << " primal aggregates contain nodes of two bodies\n";
+        }
+    std::cout.clear();
   }
 } // namespace
 
@@ -204,7 +244,9 @@ int main(int argc, char** argv)
         }
 
       // 3. Set up the preconditioner, 4. solve, 5. report.
-      multigrid::BlockPreconditioner preconditioner(system, preset);
+      multigrid::BlockPreconditioner preconditioner(system, preset, !o.aggregates.empty());
+      if (!o.aggregates.empty())
+        export_aggregates(system, preconditioner, o.aggregates, root);
       auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
           system.full_map(), 1, true);
       const auto report = multigrid::solve(system, preconditioner, *x, o.solve);

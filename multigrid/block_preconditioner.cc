@@ -113,10 +113,13 @@ namespace multigrid
 
     /// A blocked MueLu hierarchy from a factory-style list (Factories + Hierarchy) on the
     /// system's n x n operator; block k's near-nullspace is level 0's "Nullspace<k+1>".
-    RCP<Hierarchy> build_blocked_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu)
+    RCP<Hierarchy> build_blocked_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu,
+                                           bool keep_aggregates)
     {
       auto comm = system.comm();
       Teuchos::ParameterList                          list = muelu;
+      if (keep_aggregates)
+        record_aggregates(list);
       MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, comm,
                                                                   Teuchos::rcp(new ProjectFactoryFactory()));
       RCP<Hierarchy>                                  H = interpreter.CreateHierarchy();
@@ -200,8 +203,17 @@ namespace multigrid
     return sizes;
   }
 
-  BlockPreconditioner::BlockPreconditioner(const BlockSystem& system, const Preset& preset)
+  bool builds_blocked_hierarchy(const Preset& preset)
   {
+    return preset.kind == "saddle-point-amg" || preset.kind == "muelu" || preset.kind == "fully-coupled-amg";
+  }
+
+  BlockPreconditioner::BlockPreconditioner(const BlockSystem& system, const Preset& preset,
+                                           bool keep_aggregates)
+  {
+    if (keep_aggregates && !builds_blocked_hierarchy(preset))
+      throw InputError("preset '" + preset.name + "' (kind " + preset.kind +
+                       ") builds no blocked AMG hierarchy whose aggregates could be exported");
     info_.preset = preset.name;
     info_.kind   = preset.kind;
     Teuchos::Time timer("setup");
@@ -272,7 +284,8 @@ namespace multigrid
         if (system.n_blocks() != 2)
           throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
                            std::to_string(system.n_blocks()) + " blocks");
-        auto H = with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu); });
+        auto H = with_preset_context(preset.name,
+                                     [&] { return build_blocked_hierarchy(system, muelu, keep_aggregates); });
         fill_levels(info_, level_sizes(*H));
         fill_block_rows(info_, *H);
         hierarchy_ = H;
@@ -282,7 +295,8 @@ namespace multigrid
       {
         check_fully_coupled(preset, system);
         const auto muelu = fully_coupled_muelu_list(preset, system);
-        auto H = with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu); });
+        auto         H     = with_preset_context(preset.name,
+                                                 [&] { return build_blocked_hierarchy(system, muelu, keep_aggregates); });
         const double growth =
             with_preset_context(preset.name, [&] { return check_level_smoother(*H, system, preset); });
         fill_levels(info_, level_sizes(*H));
@@ -303,6 +317,9 @@ namespace multigrid
     else
       throw InputError("preset '" + preset.name + "': unknown kind '" + preset.kind + "'");
     info_.setup_seconds = timer.stop();
+    if (keep_aggregates && !hierarchy_.is_null())
+      aggregates_ =
+          with_preset_context(preset.name, [&] { return recorded_aggregates(*hierarchy_, system); });
   }
 
   BlockPreconditioner::~BlockPreconditioner() = default;

@@ -3,6 +3,7 @@
 // solve) plus a description of what was built: levels, sizes, operator complexity, setup time.
 #pragma once
 
+#include "aggregate_export.h"
 #include "block_system.h"
 #include "presets.h"
 
@@ -38,12 +39,18 @@ namespace multigrid
     std::vector<std::string> notes; ///< e.g. the inner solvers of CheapSIMPLE
   };
 
+  /// Whether the preset builds a blocked MueLu hierarchy (kinds saddle-point-amg, muelu,
+  /// fully-coupled-amg): the presets whose aggregates can be kept and exported.
+  bool builds_blocked_hierarchy(const Preset& preset);
+
   class BlockPreconditioner
   {
   public:
     /// Builds (sets up) the preconditioner. Throws InputError if the preset does not fit the
-    /// system (e.g. a saddle-point preset on a system without interface data).
-    BlockPreconditioner(const BlockSystem& system, const Preset& preset);
+    /// system (e.g. a saddle-point preset on a system without interface data). With
+    /// `keep_aggregates`, the aggregates of every field and level are kept for aggregates()
+    /// (blocked MueLu hierarchies only: InputError for other kinds).
+    BlockPreconditioner(const BlockSystem& system, const Preset& preset, bool keep_aggregates = false);
     ~BlockPreconditioner();
 
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op() const { return op_; }
@@ -55,10 +62,13 @@ namespace multigrid
     /// hierarchies). Throws InputError like prolongator_block.
     RCP<const Matrix> prolongator(int level) const;
     const PreconditionerInfo& info() const { return info_; }
+    /// Every field's aggregates per coarse level (empty unless built with keep_aggregates).
+    const std::vector<FieldAggregates>& aggregates() const { return aggregates_; }
 
   private:
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> hierarchy_;
     PreconditionerInfo                    info_;
+    std::vector<FieldAggregates>          aggregates_;
   };
 } // namespace multigrid

@@ -252,6 +252,29 @@ namespace multigrid
     return block_norms(*r);
   }
 
+  void set_node_coordinates(BlockInfo& block, int dim, const std::vector<double>& x)
+  {
+    const int         dpn   = block.dofs_per_node;
+    const auto        dofs  = block.map->getNodeElementList();
+    const std::size_t nodes = dofs.size() / dpn;
+    if (x.size() != nodes * dim)
+      throw InputError("block '" + block.name + "': " + std::to_string(x.size() / std::max(dim, 1)) +
+                       " node positions for " + std::to_string(nodes) + " local nodes");
+    std::vector<GO> node_gids(nodes);
+    for (std::size_t i = 0; i < nodes; ++i)
+      node_gids[i] = (dofs[i * dpn] - block.offset) / dpn;
+    auto node_map     = Xpetra::MapFactory<LO, GO, NO>::Build(block.map->lib(), block.global_size / dpn,
+                                                              Teuchos::ArrayView<const GO>(node_gids), 0,
+                                                              block.map->getComm());
+    block.coordinates = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(node_map, dim);
+    for (int d = 0; d < dim; ++d)
+      {
+        auto data = block.coordinates->getDataNonConst(d);
+        for (std::size_t i = 0; i < nodes; ++i)
+          data[i] = x[i * dim + d];
+      }
+  }
+
   RCP<MultiVector> translation_modes(const RCP<const Map>& dof_map, int dofs_per_node)
   {
     auto modes = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(dof_map, dofs_per_node, true);

@@ -113,6 +113,11 @@ namespace multigrid
   RCP<MultiVector> rigid_body_modes(const RCP<const Map>& dof_map, int dim,
                                     const std::vector<double>& local_node_coordinates);
 
+  /// Sets `block.coordinates` (one column per space dimension on the block's node map: node id =
+  /// (DOF id - offset) / dofs_per_node) from this rank's node positions, node-major in the order
+  /// of the block's owned DOFs. Throws InputError when the counts do not match.
+  void set_node_coordinates(BlockInfo& block, int dim, const std::vector<double>& local_node_coordinates);
+
   /// Translations only: one constant vector per DOF component.
   RCP<MultiVector> translation_modes(const RCP<const Map>& dof_map, int dofs_per_node);
 

@@ -256,16 +256,6 @@ namespace multigrid
 
   void write_json_atomically(const std::string& file, const std::string& json)
   {
-    const std::string tmp = unique_temporary_name(file);
-    {
-      std::ofstream out(tmp);
-      out << json << "\n";
-      if (!out)
-        throw InputError(file + ": cannot write the report");
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
-    if (ec)
-      throw InputError(file + ": cannot move the report into place (" + ec.message() + ")");
+    write_file_atomically(file, json + "\n");
   }
 } // namespace multigrid

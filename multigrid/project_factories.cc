@@ -1,5 +1,7 @@
 #include "project_factories.h"
 
+#include "aggregate_export.h"
+
 #include "spai_factories.h"
 #include "spai_simple_smoother.h"
 #include "superlu_direct.h"
@@ -474,6 +476,13 @@ namespace multigrid
       return this->template Build2<SegregationLabelTransferFactory>(list, factories, managers);
     if (name == "NodeInterfaceAggregationFactory")
       return this->template Build2<NodeInterfaceAggregationFactory>(list, factories, managers);
+    if (name == "AggregateRecordFactory")
+      {
+        const auto aggregates = factories.find(list.get<std::string>("Aggregates", ""));
+        if (aggregates == factories.end())
+          throw InputError("AggregateRecordFactory: 'Aggregates' names no factory defined before it");
+        return build_aggregate_record_factory(list, aggregates->second);
+      }
     if (name == "SuperLUDirectSolver")
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));

@@ -1,8 +1,12 @@
 #include "temporary_files.h"
 
+#include "types.h"
+
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <random>
 
 namespace multigrid
@@ -16,5 +20,20 @@ namespace multigrid
     std::snprintf(tag, sizeof tag, ".%ld-%016llx.", static_cast<long>(::getpid()),
                   static_cast<unsigned long long>(random()));
     return target + tag + suffix;
+  }
+
+  void write_file_atomically(const std::string& file, const std::string& text)
+  {
+    const std::string tmp = unique_temporary_name(file);
+    {
+      std::ofstream out(tmp);
+      out << text;
+      if (!out)
+        throw InputError(file + ": cannot write the file");
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, file, ec);
+    if (ec)
+      throw InputError(file + ": cannot move the file into place (" + ec.message() + ")");
   }
 } // namespace multigrid

@@ -12,4 +12,8 @@ namespace multigrid
   /// `target` is atomic) and used by no other process or call. Ends in ".SUFFIX", so a left-over
   /// temporary is still recognised by its suffix.
   std::string unique_temporary_name(const std::string& target, const std::string& suffix = "tmp");
+
+  /// Writes `text` to a unique temporary beside `file` and renames it onto `file`: a reader never
+  /// sees a half-written file. Throws InputError naming the file when it cannot.
+  void write_file_atomically(const std::string& file, const std::string& text);
 } // namespace multigrid

@@ -2,7 +2,8 @@
 """Everything a run directory holds, rendered in one command: for every run at or below DIR (a
 directory with run_log.jsonl) the plots of plot_run.py and a picture of its last VTK step
 (render_vtk.py: contact solution.pvd coloured by von Mises stress; beam/solid solid.pvd with the
-beams as tubes, coloured by displacement); a solver comparison (compare_solvers.py) when DIR
+beams as tubes, coloured by displacement); the AMG aggregates of the first coarse level where the
+run exported them (aggregates.py); a solver comparison (compare_solvers.py) when DIR
 holds several runs; the weak-scaling plot and table (weak_scaling.py plot) when DIR is a study;
 and a Markdown report of all of it, report.md, with manifest.json describing every PNG.
 
@@ -19,6 +20,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+import aggregates  # noqa: E402
 import compare_solvers  # noqa: E402
 import plot_run  # noqa: E402
 import render_vtk  # noqa: E402
@@ -43,6 +45,15 @@ def pictures(run_dir, out, prefix):
         info = render_vtk.render_run_output(solid, os.path.join(out, f"{prefix}_beam_solid.png"), field="displacement",
                                             beams=beams if os.path.exists(beams) else None)
         done.append((info, "last step, deformed solid (translucent) and beams as tubes, coloured by displacement"))
+    if os.path.isdir(os.path.join(run_dir, "aggregates")):
+        try:
+            info = aggregates.render(aggregates.aggregates_file(run_dir), os.path.join(out, f"{prefix}_aggregates.png"))
+        except InputError:  # e.g. a one-level hierarchy: nothing to draw
+            return done
+        crossing = (f", {info['crossing_bodies']} of them with nodes of two bodies"
+                    if "crossing_bodies" in info else "")
+        done.append((info, f"AMG aggregates of the first coarse level, field 0, last Newton system: "
+                           f"{info['aggregates']} aggregates{crossing}"))
     return done
 
 

@@ -7,7 +7,7 @@ not only their exit status.
       the manifest: a PNG of the size the manifest says, not blank (enough pixels off the
       background, enough colours), the plots' series as long as the log's accepted steps, the
       active-set series present for contact (--active), a picture of the VTK output (--picture)
-      in colour
+      in colour, a picture of the level-1 aggregates with none across two bodies (--aggregates)
   check_postprocess.py weak --work DIR --build BUILD --class C --dofs-per-rank N --ranks 1 2
       a tiny weak-scaling study run here, collected (DOFs as the class's model predicts, one row
       per size, the figures present) and rendered
@@ -15,6 +15,10 @@ not only their exit status.
       SLURM scripts of both classes and of the seeds' largest configurations: `bash -n` on each,
       the #SBATCH tasks and nodes, the printed DOFs per rank; with --build, a tiny study's
       one-rank job script run here by bash (LAUNCHER="mpirun -np") and collected
+  check_postprocess.py aggregates --work DIR --build BUILD [--ranks N]
+      solve_block_system --export-aggregates on the four-ring contact system, then aggregates.py:
+      the counts agree with the hierarchy's levels, no aggregate holds two rings, the picture is
+      drawn, and a node given another ring's label is found
   check_postprocess.py cli --work DIR
       --help of every tool; each tool on a missing directory: exit status 2 and one line naming it
 
@@ -101,6 +105,10 @@ def render(args):
             check_png(os.path.join(out, info["file"]), info["width"], info["height"], picture)
             check(f"({info['file']})" in report_text, f"{out}/report.md does not show {info['file']}")
         check_plot_content(root, images, args)
+        if args.aggregates:
+            drawn = [i for i in images if "level" in i]
+            check(len(drawn) == 1 and drawn[0].get("crossing_bodies") == 0 and drawn[0]["aggregates"] > 0,
+                  f"{out}: expected one picture of the level-1 aggregates, none across bodies: {drawn}")
 
 
 def check_plot_content(root, images, args):
@@ -236,7 +244,7 @@ def run_job_script(args):
               f"{collection}: the job's run: {row}")
 
 
-TOOLS = ["render_all.py", "plot_run.py", "compare_solvers.py", "weak_scaling.py", "render_vtk.py"]
+TOOLS = ["render_all.py", "plot_run.py", "compare_solvers.py", "weak_scaling.py", "render_vtk.py", "aggregates.py"]
 
 
 def cli(args):
@@ -245,13 +253,66 @@ def cli(args):
         check(proc.stdout.startswith("usage: "), f"{name} --help: no usage line first")
     missing = os.path.join(args.work, "nonexistent")
     for name, extra in (("render_all.py", []), ("plot_run.py", []), ("compare_solvers.py", []),
-                        ("weak_scaling.py", ["collect"]), ("render_vtk.py", ["--out", os.path.join(args.work, "x.png")])):
+                        ("weak_scaling.py", ["collect"]), ("render_vtk.py", ["--out", os.path.join(args.work, "x.png")]),
+                        ("aggregates.py", [])):
         target = missing if name != "render_vtk.py" else missing + ".pvd"
         words = extra[:1] + [target] + extra[1:] if name == "weak_scaling.py" else [target] + extra
         proc = tool(name, *words, expect=2)
         lines = proc.stderr.strip().splitlines()
         check(len(lines) == 1 and "nonexistent" in proc.stderr and "Traceback" not in proc.stderr,
               f"{name}: stderr is not one line naming the input: {proc.stderr!r}")
+
+
+def aggregates(args):
+    """solve_block_system --export-aggregates on the four-ring contact system: the exported
+    aggregates agree with the hierarchy (aggregates x nullspace dimension = the level's block
+    rows), none contains nodes of two rings on any level, the picture is drawn, and the check
+    does find a crossing once one node's body label is changed."""
+    data = os.path.join(SOURCE, "tests", "data", "rings_four_bodies_step28")
+    prefix = os.path.join(args.work, f"rings_np{args.ranks}")
+    cmd = ["mpirun", "-np", str(args.ranks), "--oversubscribe", os.path.join(args.build, "apps", "solve_block_system"),
+           "--system", data, "--preset", "emin(cheapsimple)", "--set", "template parameters/COARSE_MAX_SIZE=300",
+           "--export-aggregates", prefix]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if not check(proc.returncode == 0, f"{' '.join(cmd)}: exit {proc.returncode}\n{proc.stdout}{proc.stderr}"):
+        return
+    # The hierarchy's block rows per level: "  1   412   11938  276 + 136".
+    rows = {int(m.group(1)): (int(m.group(2)), int(m.group(3)))
+            for m in re.finditer(r"^\s+(\d+)\s+\d+\s+\d+\s+(\d+) \+ (\d+)$", proc.stdout, re.M)}
+    check(len(rows) >= 2, f"solve_block_system: expected a coarse level in the report, got {rows}")
+    check(len(re.findall(r"level \d: 0 primal aggregates contain nodes of two bodies", proc.stdout)) == len(rows) - 1,
+          f"solve_block_system: not every level reports 0 aggregates across bodies:\n{proc.stdout}")
+    result = json.loads(tool("aggregates.py", prefix + ".pvtu", "--check", "--json").stdout)
+    for c in result["levels"]:
+        block_rows = rows.get(c["level"], (0, 0))[c["field"]]
+        dimension = 3 if c["field"] == 0 else 2  # 2D rigid-body modes / the multipliers' translations
+        check(c["aggregates"] * dimension == block_rows,
+              f"field {c['field']} level {c['level']}: {c['aggregates']} aggregates x {dimension} != {block_rows} rows")
+        if c["field"] == 0:
+            check(c.get("crossing_bodies") == 0 and c.get("bodies") == 4,
+                  f"field 0 level {c['level']}: {c.get('crossing_bodies')} aggregates across bodies, "
+                  f"{c.get('bodies')} bodies (expected 0 and 4)")
+            check(c["unaggregated"] == 0, f"field 0 level {c['level']}: {c['unaggregated']} nodes in no aggregate")
+    png = prefix + "_level1.png"
+    tool("aggregates.py", prefix + ".pvtu", "--level", "1", "--out", png)
+    check_png(png, 1000, 700, picture=False)
+    # The check must be able to fail: give one node of rank 0's piece the body of another node of
+    # its aggregate's neighbour, so that its level-1 aggregate holds two bodies.
+    crossed = os.path.join(args.work, f"crossed_np{args.ranks}")
+    os.makedirs(crossed, exist_ok=True)
+    stem = os.path.basename(prefix)
+    for name in os.listdir(args.work):
+        if name.startswith(stem + "_rank") and name.endswith(".vtu") or name == stem + ".pvtu":
+            text = open(os.path.join(args.work, name)).read()
+            if name == stem + "_rank0.vtu":
+                head, body = text.split('Name="body" format="ascii">\n', 1)
+                values, tail = body.split("\n", 1)
+                labels = values.split()
+                other = next(v for v in labels if v != labels[0] and v != "-1")
+                text = head + 'Name="body" format="ascii">\n' + " ".join([other] + labels[1:]) + "\n" + tail
+            open(os.path.join(crossed, name), "w").write(text)
+    proc = tool("aggregates.py", os.path.join(crossed, stem + ".pvtu"), "--check", expect=1)
+    check("1 contain nodes of two bodies" in proc.stdout, f"the changed label is not found:\n{proc.stdout}")
 
 
 def main():
@@ -262,6 +323,7 @@ def main():
     p.add_argument("--picture", action="store_true")
     p.add_argument("--active", action="store_true")
     p.add_argument("--comparison", action="store_true")
+    p.add_argument("--aggregates", action="store_true")
     p = sub.add_parser("weak")
     p.add_argument("--build", required=True)
     p.add_argument("--class", dest="problem_class", required=True)
@@ -270,12 +332,15 @@ def main():
     p.add_argument("--set", action="append", default=[])
     p = sub.add_parser("slurm")
     p.add_argument("--build")
+    p = sub.add_parser("aggregates")
+    p.add_argument("--build", required=True)
+    p.add_argument("--ranks", type=int, default=1)
     sub.add_parser("cli")
     for p in sub.choices.values():
         p.add_argument("--work", required=True)
     args = ap.parse_args()
     os.makedirs(args.work, exist_ok=True)
-    {"render": render, "weak": weak, "slurm": slurm, "cli": cli}[args.mode](args)
+    {"render": render, "weak": weak, "slurm": slurm, "cli": cli, "aggregates": aggregates}[args.mode](args)
     for f in failures:
         print(f"check_postprocess {args.mode}: {f}")
     if not failures:

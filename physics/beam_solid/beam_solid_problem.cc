@@ -424,17 +424,15 @@ namespace physics::beam_solid
         }
       system.block(0).nullspace = beam_modes;
       // Solid: rigid-body modes from the vertex coordinates, in the order of the owned DOFs.
-      std::map<GlobalIndex, Point<3>> vertex_of_dof;
-      for (const auto& cell : dof_handler_.active_cell_iterators())
-        if (cell->is_locally_owned())
-          for (const unsigned int v : cell->vertex_indices())
-            if (owned_.is_element(cell->vertex_dof_index(v, 0)))
-              vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
-      std::vector<double> xyz;
-      for (const auto& [dof, x] : vertex_of_dof)
-        for (int c = 0; c < 3; ++c)
-          xyz.push_back(x[c]);
+      const auto xyz            = owned_vertex_positions(dof_handler_, owned_);
       system.block(1).nullspace = multigrid::rigid_body_modes(system.block(1).map, 3, xyz);
+      multigrid::set_node_coordinates(system.block(1), 3, xyz);
+      // The beam nodes at their reference positions (the aggregates' pictures).
+      std::vector<double> beam_xyz;
+      for (GlobalIndex n = beam_.first_owned; n < beam_.end_owned; ++n)
+        for (int c = 0; c < 3; ++c)
+          beam_xyz.push_back(beam_.mesh.nodes[beam_.local_node(n)][c]);
+      multigrid::set_node_coordinates(system.block(0), 3, beam_xyz);
     }
 
     void BeamSolidProblem::begin_step(double time, double /*step*/)
@@ -493,8 +491,7 @@ namespace physics::beam_solid
     {
       setup();
       NewtonSettings newton_settings   = p_.solver.newton_settings(field_names());
-      newton_settings.export_systems   = p_.export_systems;
-      newton_settings.export_directory = p_.output_directory + "/systems";
+      p_.set_exports(newton_settings);
       NewtonSolver      newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_, timer_,
                                comm_);
       const StepsResult result = run_steps(*this, p_.solver.step_settings(1.0, 1.0 / p_.load_steps, p_.output_directory), newton, log_, pcout_);

@@ -9,6 +9,7 @@
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <map>
 #include <memory>
 #include <stdexcept>
 
@@ -130,6 +131,28 @@ namespace physics
     constraints.close();
   }
 
+  template <int dim>
+  std::vector<double> owned_vertex_positions(const dealii::DoFHandler<dim>& dof_handler,
+                                             const dealii::IndexSet&        owned,
+                                             const std::function<bool(dealii::types::global_dof_index)>& keep)
+  {
+    std::map<dealii::types::global_dof_index, dealii::Point<dim>> vertex_of_dof;
+    for (const auto& cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (const unsigned v : cell->vertex_indices())
+          {
+            const auto dof = cell->vertex_dof_index(v, 0);
+            if (owned.is_element(dof) && keep(dof))
+              vertex_of_dof[dof] = cell->vertex(v);
+          }
+    std::vector<double> xyz;
+    xyz.reserve(dim * vertex_of_dof.size());
+    for (const auto& [dof, x] : vertex_of_dof)
+      for (unsigned c = 0; c < dim; ++c)
+        xyz.push_back(x[c]);
+    return xyz;
+  }
+
   template void create_distributed_mesh<2>(dealii::parallel::fullydistributed::Triangulation<2>&,
                                            const std::function<void(dealii::Triangulation<2>&)>&, unsigned int);
   template void create_distributed_mesh<3>(dealii::parallel::fullydistributed::Triangulation<3>&,
@@ -148,4 +171,10 @@ namespace physics
                                          dealii::parallel::fullydistributed::Triangulation<2>&);
   template void read_distributed_mesh<3>(const std::string&, const GmshSource&, int, const std::string&,
                                          dealii::parallel::fullydistributed::Triangulation<3>&);
+  template std::vector<double>
+  owned_vertex_positions<2>(const dealii::DoFHandler<2>&, const dealii::IndexSet&,
+                            const std::function<bool(dealii::types::global_dof_index)>&);
+  template std::vector<double>
+  owned_vertex_positions<3>(const dealii::DoFHandler<3>&, const dealii::IndexSet&,
+                            const std::function<bool(dealii::types::global_dof_index)>&);
 } // namespace physics

@@ -24,6 +24,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace physics
 {
@@ -61,4 +62,15 @@ namespace physics
   template <int dim>
   void close_distributed_constraints(const dealii::DoFHandler<dim>& dof_handler, const dealii::IndexSet& known,
                                      dealii::AffineConstraints<double>& constraints);
+
+  /// Reference positions of the vertices whose first DOF (component 0) is locally owned and
+  /// accepted by `keep`, node-major (dim numbers per vertex) in ascending DOF order: the order of
+  /// a BlockSystem block's nodes when its rows are the owned DOFs in ascending order (the
+  /// rigid-body modes and the nodal coordinates of the AMG).
+  template <int dim>
+  std::vector<double> owned_vertex_positions(
+      const dealii::DoFHandler<dim>& dof_handler, const dealii::IndexSet& owned,
+      const std::function<bool(dealii::types::global_dof_index)>& keep = [](dealii::types::global_dof_index) {
+        return true;
+      });
 } // namespace physics

@@ -28,6 +28,11 @@ namespace physics
       , timer_(timer)
       , comm_(comm)
   {
+    if (settings_.export_aggregates && !multigrid::builds_blocked_hierarchy(preset_))
+      throw multigrid::InputError(
+          "Output/Export aggregates: preset '" + preset_.name + "' (kind " + preset_.kind +
+          ") builds no blocked AMG hierarchy whose aggregates could be written; use a "
+          "saddle-point or fully coupled preset, or set it to false");
   }
 
   const FieldTolerance& NewtonSolver::tolerance(std::size_t field) const
@@ -87,13 +92,15 @@ namespace physics
   }
 
   std::string NewtonSolver::solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
-                                         double step_residual, JsonLinesLog::Line& line, NewtonResult& result)
+                                         double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
+                                         const std::string& aggregates_path)
   {
     std::unique_ptr<multigrid::BlockPreconditioner> preconditioner;
     try
       {
         dealii::TimerOutput::Scope scope(timer_, "preconditioner setup");
-        preconditioner = std::make_unique<multigrid::BlockPreconditioner>(system, preset_);
+        preconditioner =
+            std::make_unique<multigrid::BlockPreconditioner>(system, preset_, settings_.export_aggregates);
       }
     catch (const multigrid::InputError&)
       {
@@ -106,6 +113,8 @@ namespace physics
         console_ << "\n";
         return "the preconditioner set-up failed (" + what.substr(0, 200) + ")";
       }
+    if (!aggregates_path.empty())
+      multigrid::write_aggregates(system, preconditioner->aggregates(), aggregates_path);
     multigrid::SolveReport report;
     {
       dealii::TimerOutput::Scope scope(timer_, "linear solve");
@@ -291,7 +300,11 @@ namespace physics
                                                          std::to_string(it));
         dx = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(
             lin.system->full_map(), 1, true);
-        result.failure = solve_linear(*lin.system, *dx, result.residuals.front(), line, result);
+        result.failure =
+            solve_linear(*lin.system, *dx, result.residuals.front(), line, result,
+                         settings_.export_aggregates ? settings_.aggregates_directory + "/" + export_prefix +
+                                                           "-newton" + std::to_string(it)
+                                                     : "");
         if (!result.failure.empty())
           {
             line.add("failure", result.failure);

@@ -82,6 +82,10 @@ namespace physics
     /// Write every Newton system to `export_directory`/<prefix>-newtonN (BlockSystem format).
     bool        export_systems = false;
     std::string export_directory;
+    /// Write the aggregates of every Newton step's AMG hierarchy to
+    /// `aggregates_directory`/<prefix>-newtonN.pvtu (multigrid/aggregate_export.h).
+    bool        export_aggregates = false;
+    std::string aggregates_directory;
   };
 
   /// What the problem hands over at each iterate.
@@ -180,9 +184,11 @@ namespace physics
     double divergence_scale(double reference, std::size_t field) const;
     double merit(const std::vector<double>& norms, const std::vector<double>& reference) const;
     /// Preconditioner set-up and GMRES on the system; logs the solve. Returns the failure
-    /// message of a failed solve (empty if usable).
-    std::string solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx, double step_residual,
-                             JsonLinesLog::Line& line, NewtonResult& result);
+    /// message of a failed solve (empty if usable). A non-empty `aggregates_path` writes the
+    /// hierarchy's aggregates there (.pvtu).
+    std::string           solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
+                                       double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
+                                       const std::string& aggregates_path);
     const FieldTolerance& tolerance(std::size_t field) const;
 
     NewtonSettings              settings_;

@@ -140,6 +140,11 @@ namespace physics
     prm.declare_entry("Export systems", d.export_systems ? "true" : "false", dealii::Patterns::Bool(),
                       "Write every Newton step's BlockSystem to Directory/systems/stepS-newtonN (for "
                       "solve_block_system --system).");
+    prm.declare_entry("Export aggregates", d.export_aggregates ? "true" : "false", dealii::Patterns::Bool(),
+                      "Write the AMG aggregates of every Newton step's preconditioner (every field, every "
+                      "coarse level) as VTK point sets Directory/aggregates/stepS-newtonN.pvtu (the "
+                      "preset must build a blocked MueLu hierarchy: the saddle-point and fully coupled "
+                      "presets); postprocess/aggregates.py renders and checks them.");
     prm.leave_subsection();
   }
 
@@ -150,6 +155,15 @@ namespace physics
     vtk              = prm.get_bool("VTK");
     vtk_interval     = prm.get_integer("VTK interval");
     export_systems   = prm.get_bool("Export systems");
+    export_aggregates = prm.get_bool("Export aggregates");
     prm.leave_subsection();
+  }
+
+  void OutputParameters::set_exports(NewtonSettings& newton) const
+  {
+    newton.export_systems       = export_systems;
+    newton.export_directory     = output_directory + "/systems";
+    newton.export_aggregates    = export_aggregates;
+    newton.aggregates_directory = output_directory + "/aggregates";
   }
 } // namespace physics

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "common/mesh_input.h"
+#include "common/newton_solver.h"
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -62,6 +63,7 @@ namespace physics
     bool        vtk              = true;
     int         vtk_interval     = 1; ///< write VTK every this many steps (and the last)
     bool        export_systems   = false;
+    bool        export_aggregates = false;
 
     /// The "Output" section; `contents` lists what the app writes into the directory besides the
     /// run log ("VTK (solution.pvd + pvtu per load step)").
@@ -70,5 +72,7 @@ namespace physics
 
     /// Whether converged step `number` writes VTK (every vtk_interval-th and the last one).
     bool vtk_due(int number, bool last) const { return vtk && (number % vtk_interval == 0 || last); }
+    /// Hands the exports (systems, aggregates) and their directories to the Newton solver.
+    void set_exports(NewtonSettings& newton) const;
   };
 } // namespace physics

@@ -65,7 +65,7 @@ namespace physics::contact
         result.class_sizes[c] = total;
         offset += total;
       }
-    const GO n_primal_nodes = offset, n_primal = dim * offset;
+    const GO n_primal = dim * offset;
 
     // New global id of every owned DOF, then of the ghosts through a ghosted vector.
     dealii::TrilinosWrappers::MPI::Vector new_id(owned, comm);
@@ -202,22 +202,7 @@ namespace physics::contact
     for (const auto& x : coordinates)
       flat.insert(flat.end(), x.begin(), x.end());
     result.system.block(0).nullspace = rigid_body_modes(result.system.block(0).map, dim, flat);
-    {
-      std::vector<GO> node_gids;
-      for (std::size_t i = 0; i < primal_gids.size(); i += dim)
-        node_gids.push_back(primal_gids[i] / dim);
-      auto node_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_primal_nodes,
-                                                            Teuchos::ArrayView<const GO>(node_gids), 0,
-                                                            teuchos_comm(comm));
-      auto xyz      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(node_map, dim);
-      for (int d = 0; d < dim; ++d)
-        {
-          auto data = xyz->getDataNonConst(d);
-          for (std::size_t i = 0; i < coordinates.size(); ++i)
-            data[i] = coordinates[i][d];
-        }
-      result.system.block(0).coordinates = xyz;
-    }
+    set_node_coordinates(result.system.block(0), dim, flat);
 
     // Interface data for the saddle-point AMG.
     InterfaceInfo   info;

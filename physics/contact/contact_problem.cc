@@ -586,8 +586,7 @@ namespace physics::contact
         log_energies(0, 0.0); // the initial state's
 
       NewtonSettings newton_settings  = p_.solver.newton_settings(field_names());
-      newton_settings.export_systems   = p_.export_systems;
-      newton_settings.export_directory = p_.output_directory + "/systems";
+      p_.set_exports(newton_settings);
       NewtonSolver newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_, timer_,
                           comm_);
       const StepSettings steps = dynamics_ ? p_.solver.step_settings(p_.load_steps * p_.time_step, p_.time_step, p_.output_directory)

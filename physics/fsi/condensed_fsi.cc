@@ -101,14 +101,7 @@ namespace physics::fsi
                 cell->vertex_dof_index(v, 0) % (dim + 1) != 0)
               throw std::logic_error("fsi: the fluid DOFs are not numbered node by node");
     // Reference coordinates of the owned structure nodes, node-major in DOF order.
-    std::map<GlobalIndex, Point<dim>> vertex_of_dof;
-    for (const auto& cell : solid_dofs_.active_cell_iterators())
-      for (const unsigned v : cell->vertex_indices())
-        if (solid_owned_.is_element(cell->vertex_dof_index(v, 0)))
-          vertex_of_dof[cell->vertex_dof_index(v, 0)] = cell->vertex(v);
-    for (const auto& [dof, x] : vertex_of_dof)
-      for (unsigned c = 0; c < dim; ++c)
-        solid_coordinates_.push_back(x[c]);
+    solid_coordinates_ = owned_vertex_positions(solid_dofs_, solid_owned_);
 
     // Structure: Saint Venant-Kirchhoff, clamped at both ends, generalized-alpha.
     make_boundary_constraints();
@@ -554,6 +547,14 @@ namespace physics::fsi
     system.block(0).nullspace = multigrid::rigid_body_modes(system.block(0).map, dim, solid_coordinates_);
     system.block(1).nullspace = multigrid::translation_modes(system.block(1).map, dim + 1);
     system.block(2).nullspace = multigrid::translation_modes(system.block(2).map, dim);
+    // Node positions (the aggregates' pictures): every field's owned nodes in DOF order; the ALE
+    // block without its interface nodes (condensed into the structure's).
+    multigrid::set_node_coordinates(system.block(0), dim, solid_coordinates_);
+    multigrid::set_node_coordinates(system.block(1), dim, owned_vertex_positions(fluid_dofs_, fluid_owned_));
+    multigrid::set_node_coordinates(system.block(2), dim,
+                                    owned_vertex_positions(mesh_dofs_, mesh_owned_, [&](GlobalIndex m) {
+                                      return mesh_partner_.count(m) == 0;
+                                    }));
     norms                     = system.block_norms(*system.rhs());
     return system;
   }

@@ -258,8 +258,7 @@ namespace physics::fsi
            << (p_.shape_derivatives ? "on" : "off") << ", " << Utilities::MPI::n_mpi_processes(comm_)
            << " ranks, preset " << p_.solver.preset << "\n";
     NewtonSettings newton_settings   = p_.solver.newton_settings(field_names());
-    newton_settings.export_systems   = p_.export_systems;
-    newton_settings.export_directory = p_.output_directory + "/systems";
+    p_.set_exports(newton_settings);
     NewtonSolver newton(newton_settings, p_.solver.load_preset(), p_.solver.solve_options(), log_, pcout_,
                         timer_, comm_);
     const StepsResult result =
