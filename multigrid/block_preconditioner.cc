@@ -158,9 +158,18 @@ namespace multigrid
 
   RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
                                               const RCP<MultiVector>&       nullspace,
-                                              const Teuchos::ParameterList& parameters)
+                                              const Teuchos::ParameterList& parameters,
+                                              const RCP<MultiVector>&       coordinates)
   {
     Teuchos::ParameterList list = parameters;
+    if (value_or<bool>(list, "repartition: enable", false) && coordinates.is_null())
+      throw InputError("'repartition: enable' needs the nodes' coordinates (Zoltan2's geometric "
+                       "partitioner), and this field has none");
+    // Ranks left without rows on a repartitioned coarse level stay in its communicator (with
+    // empty rows): the project's coarse solver and level reports call collectives on every rank.
+    if (value_or<bool>(list, "repartition: enable", false) &&
+        !list.isParameter("repartition: use subcommunicators"))
+      list.set("repartition: use subcommunicators", false);
     if (!list.isParameter("number of equations"))
       list.set("number of equations", dofs_per_node);
     A->SetFixedBlockSize(dofs_per_node);
@@ -170,6 +179,8 @@ namespace multigrid
     H->GetLevel(0)->Set("A", A);
     if (!nullspace.is_null())
       H->GetLevel(0)->Set("Nullspace", nullspace);
+    if (!coordinates.is_null())
+      H->GetLevel(0)->Set("Coordinates", coordinates);
     interpreter.SetupHierarchy(*H);
     // MueLu 13.2's Amesos2 coarse solve is not exact on several ranks: the project's SuperLU
     // takes the coarsest level's place.
@@ -253,7 +264,8 @@ namespace multigrid
                            " blocks (use a saddle-point or cheapsimple preset)");
         auto H = with_preset_context(preset.name, [&] {
           return build_single_field_hierarchy(system.merged_matrix(), system.block(0).dofs_per_node,
-                                              system.nullspace_or_translations(0), p.sublist("MueLu"));
+                                              system.nullspace_or_translations(0), p.sublist("MueLu"),
+                                              system.block(0).coordinates);
         });
         fill_levels(info_, level_sizes(*H));
         hierarchy_          = H;

@@ -120,9 +120,11 @@ namespace multigrid
             // A placeholder MueLu sets up cheaply; SuperLU replaces it (see the header).
             list.set("coarse: type", std::string("RELAXATION"));
             solver->A_zero_based = zero_based(*solver->A, block.offset);
-            solver->amg          = build_single_field_hierarchy(
-                         solver->A_zero_based, block.dofs_per_node,
-                         ::multigrid::with_map(*system.nullspace_or_translations(k), solver->A_zero_based->getRowMap()), list);
+            solver->amg =
+                build_single_field_hierarchy(solver->A_zero_based, block.dofs_per_node,
+                                             ::multigrid::with_map(*system.nullspace_or_translations(k),
+                                                                   solver->A_zero_based->getRowMap()),
+                                             list, block.coordinates);
             use_superlu_coarse_solver(*solver->amg);
           }
         else

@@ -71,8 +71,9 @@ namespace multigrid
     S_ = S;
 
     if (predictor == "amg")
-      primal_ = build_single_field_hierarchy(A_, system.block(0).dofs_per_node, system.nullspace_or_translations(0),
-                                             p.sublist("primal solver"));
+      primal_ =
+          build_single_field_hierarchy(A_, system.block(0).dofs_per_node, system.nullspace_or_translations(0),
+                                       p.sublist("primal solver"), system.block(0).coordinates);
     // S of a contact system lives on the multipliers (no near-nullspace); S of beam/solid on the
     // solid, whose rigid-body modes make the inner SA-AMG elasticity-aware.
     if (schur_nullspace == "block")

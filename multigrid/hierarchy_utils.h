@@ -21,10 +21,13 @@ namespace multigrid
   using Hierarchy = MueLu::Hierarchy<SC, LO, GO, NO>;
 
   /// Single-field MueLu hierarchy from MueLu's (simple or factory-style) parameter list, with the
-  /// near-nullspace set on level 0 (rigid-body modes make SA elasticity-aware).
+  /// near-nullspace set on level 0 (rigid-body modes make SA elasticity-aware) and, where given,
+  /// the nodal coordinates (what MueLu's coarse-level repartitioning with Zoltan2 reads:
+  /// "repartition: enable" in the list; a list asking for it without coordinates is refused).
   RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
                                               const RCP<MultiVector>&       nullspace,
-                                              const Teuchos::ParameterList& muelu_parameters);
+                                              const Teuchos::ParameterList& muelu_parameters,
+                                              const RCP<MultiVector>&       coordinates = Teuchos::null);
 
   /// Replaces the coarse solver of a set-up hierarchy by the project's SuperLU (on the coarsest
   /// level's operator).
