@@ -274,6 +274,13 @@ namespace multigrid
 
     Points     points;
     const auto labels = system.has_interface() ? system.segregation_labels() : Teuchos::null;
+    const auto label  = labels.is_null() ? Teuchos::ArrayRCP<const double>() : labels->getData(0);
+    auto&      field  = points.arrays["field"];
+    auto&      ranks  = points.arrays["rank"];
+    auto&      body   = points.arrays["body"];
+    std::vector<std::vector<long long>*> level_ids;
+    for (std::size_t l = 0; l < n_levels; ++l)
+      level_ids.push_back(&points.arrays["aggregate_level_" + std::to_string(l + 1)]);
     for (const auto& f : aggregates)
       {
         const auto xyz = node_positions(system, f.block);
@@ -284,13 +291,11 @@ namespace multigrid
         points.xyz.insert(points.xyz.end(), xyz.begin(), xyz.end());
         for (std::size_t i = 0; i < n; ++i)
           {
-            points.arrays["field"].push_back(static_cast<long long>(f.block));
-            points.arrays["rank"].push_back(rank);
-            points.arrays["body"].push_back(
-                f.block == 0 && !labels.is_null() ? static_cast<long long>(labels->getData(0)[i * dpn]) : -1);
+            field.push_back(static_cast<long long>(f.block));
+            ranks.push_back(rank);
+            body.push_back(f.block == 0 && !label.is_null() ? static_cast<long long>(label[i * dpn]) : -1);
             for (std::size_t l = 0; l < n_levels; ++l)
-              points.arrays["aggregate_level_" + std::to_string(l + 1)].push_back(
-                  l < f.levels.size() ? f.levels[l][i] : -1);
+              level_ids[l]->push_back(l < f.levels.size() ? f.levels[l][i] : -1);
           }
       }
     namespace fs = std::filesystem;
@@ -318,14 +323,15 @@ namespace multigrid
     const auto& comm = *system.comm();
     if (level < 1 || static_cast<std::size_t>(level) > primal.levels.size())
       throw InputError("aggregates_crossing_bodies: no level " + std::to_string(level));
-    const auto labels = system.segregation_labels();
+    const auto label_vector = system.segregation_labels(); // keeps the data of `labels` alive
+    const auto labels       = label_vector->getData(0);
     const int  dpn    = system.block(primal.block).dofs_per_node;
     // Aggregates never span ranks (uncoupled aggregation), so the check is local.
     std::map<GO, std::set<long long>> bodies;
     const auto&                       ids = primal.levels[level - 1];
     for (std::size_t i = 0; i < ids.size(); ++i)
       if (ids[i] >= 0)
-        bodies[ids[i]].insert(static_cast<long long>(labels->getData(0)[i * dpn]));
+        bodies[ids[i]].insert(static_cast<long long>(labels[i * dpn]));
     long long crossing = 0, total = 0;
     for (const auto& [id, set] : bodies)
       crossing += set.size() > 1;

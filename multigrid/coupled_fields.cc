@@ -217,22 +217,14 @@ namespace multigrid
     std::vector<double> structure_xy;
     for (int f = 0; f < 3; ++f)
       {
-        const GO        n_owned = static_cast<GO>(owned[f].size()) / dofs_per_node[f];
-        std::vector<GO> nodes;
+        const GO            n_owned = static_cast<GO>(owned[f].size()) / dofs_per_node[f];
+        std::vector<double> xy;
         for (GO n = first_node[f]; n < first_node[f] + n_owned; ++n)
-          nodes.push_back(n);
-        auto node_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, layout.nodes(),
-                                                              Teuchos::ArrayView<const GO>(nodes), 0, comm);
-        auto xy       = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(node_map, 2);
-        auto x = xy->getDataNonConst(0), y = xy->getDataNonConst(1);
-        for (std::size_t k = 0; k < nodes.size(); ++k)
-          {
-            x[k] = (f == structure ? 0.0 : 1.0) + static_cast<double>(nodes[k] % m) / (m - 1);
-            y[k] = static_cast<double>(nodes[k] / m) / (m - 1);
-            if (f == structure)
-              structure_xy.insert(structure_xy.end(), {x[k], y[k]});
-          }
-        system.block(f).coordinates = xy;
+          xy.insert(xy.end(), {(f == structure ? 0.0 : 1.0) + static_cast<double>(n % m) / (m - 1),
+                               static_cast<double>(n / m) / (m - 1)});
+        set_node_coordinates(system.block(f), 2, xy);
+        if (f == structure)
+          structure_xy = xy;
       }
     system.block(structure).nullspace = rigid_body_modes(system.block(structure).map, 2, structure_xy);
     system.block(fluid).nullspace     = translation_modes(system.block(fluid).map, 3);

@@ -246,22 +246,8 @@ namespace multigrid
     blocks[1].global_size     = 2 * n_dual_nodes;
     BlockSystem system        = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
     system.block(0).nullspace = rigid_body_modes(system.block(0).map, 2, coordinates);
-    {
-      // Nodal coordinates of the displacement block (x, y per node), e.g. for aggregate output.
-      std::vector<GO> nodes;
-      for (GO n = lo; n < hi; ++n)
-        nodes.push_back(n);
-      auto node_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_primal_nodes,
-                                                            Teuchos::ArrayView<const GO>(nodes), 0, comm);
-      auto xy       = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(node_map, 2);
-      for (int d = 0; d < 2; ++d)
-        {
-          auto data = xy->getDataNonConst(d);
-          for (std::size_t i = 0; i < nodes.size(); ++i)
-            data[i] = coordinates[2 * i + d];
-        }
-      system.block(0).coordinates = xy;
-    }
+    // Nodal coordinates of the displacement block (x, y per node), e.g. for aggregate output.
+    set_node_coordinates(system.block(0), 2, coordinates);
 
     InterfaceInfo info;
     info.dual_to_primal_node = dual_to_primal;
