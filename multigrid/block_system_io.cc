@@ -14,7 +14,10 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <numeric>
 #include <sstream>
+#include <unordered_map>
 
 namespace fs = std::filesystem;
 
@@ -40,6 +43,8 @@ namespace multigrid
       std::vector<GO>    dual_to_primal;   ///< primal node of every dual node (global)
       std::vector<GO>    segregation_gids; ///< DOFs of the slave body (global), may be empty
       std::string        body_labels;      ///< file of the primal DOFs' body labels, or empty
+      std::vector<int>   owner;            ///< writer's rank of every global row, or empty
+      int                written_ranks = 0; ///< the writer's number of ranks (with `owner`)
     };
 
     void require_file(const std::string& file, const std::string& what)
@@ -99,6 +104,38 @@ namespace multigrid
       return values;
     }
 
+    /// The integer values of a one-column Matrix Market array (integer or real field), each
+    /// checked to lie in lo .. hi; `what` names the values in messages.
+    std::vector<int> read_integer_column(const std::string& file, int lo, int hi, const std::string& what)
+    {
+      const auto header = scan_matrix_market(file);
+      if (header.coordinate || header.cols != 1)
+        throw InputError(file + ": expected a one-column Matrix Market array (" + what + ")");
+      std::ifstream    in(file);
+      std::string      line;
+      bool             seen_size = false;
+      std::vector<int> values;
+      while (std::getline(in, line))
+        {
+          if (line.empty() || line[0] == '%')
+            continue;
+          if (!seen_size)
+            {
+              seen_size = true;
+              continue;
+            }
+          const double r = std::strtod(line.c_str(), nullptr);
+          if (!(r >= lo && r <= hi) || r != static_cast<int>(r))
+            throw InputError(file + ": row " + std::to_string(values.size()) + " has " + what + " '" + line +
+                             "', expected an integer " + std::to_string(lo) + ".." + std::to_string(hi));
+          values.push_back(static_cast<int>(r));
+        }
+      if (static_cast<long long>(values.size()) != header.rows)
+        throw InputError(file + ": " + std::to_string(values.size()) + " values, the header says " +
+                         std::to_string(header.rows));
+      return values;
+    }
+
     Description describe_manifest(const std::string& dir)
     {
       const std::string manifest = (fs::path(dir) / "manifest.txt").string();
@@ -108,7 +145,7 @@ namespace multigrid
       std::ifstream in(manifest);
       std::string   line, format;
       int           line_no = 0;
-      std::string   dual_to_primal_file, segregation_file, labels_file;
+      std::string   dual_to_primal_file, segregation_file, labels_file, partition_file;
       auto          bad = [&](const std::string& what) {
         throw InputError(manifest + ":" + std::to_string(line_no) + ": " + what);
       };
@@ -147,8 +184,13 @@ namespace multigrid
               s >> segregation_file >> labels_file;
               d.has_interface = true;
             }
+          else if (key == "partition")
+            {
+              if (!(s >> partition_file >> d.written_ranks) || d.written_ranks < 1)
+                bad("expected 'partition <file> <number of ranks>'");
+            }
           else
-            bad("unknown key '" + key + "' (expected format, matrix, rhs, block, interface)");
+            bad("unknown key '" + key + "' (expected format, matrix, rhs, block, interface, partition)");
         }
       if (format != "block-system-1")
         throw InputError(manifest + ": format '" + format + "', expected 'block-system-1'");
@@ -180,6 +222,12 @@ namespace multigrid
               d.body_labels = (fs::path(dir) / labels_file).string();
               require_file(d.body_labels, "body labels");
             }
+        }
+      if (!partition_file.empty())
+        {
+          const std::string f = (fs::path(dir) / partition_file).string();
+          require_file(f, "partition");
+          d.owner = read_integer_column(f, 0, d.written_ranks - 1, "rank");
         }
       return d;
     }
@@ -288,6 +336,57 @@ namespace multigrid
       return {n * rank / size, n * (rank + 1) / size};
     }
 
+    /// This rank's nodes of block k (ascending), whose first DOF has global id `offset`. Without a
+    /// partition: contiguous equal chunks of the node ids. With one (written by the app that
+    /// exported the system): on the writer's number of ranks exactly the writer's distribution;
+    /// on another number the nodes ordered by (writer's rank, body label where the primal block
+    /// has them, id) and cut into equal chunks, so that every rank holds whole pieces of the
+    /// writer's subdomains and, where it can, whole bodies. A contiguous split of the ids
+    /// alone may scatter a subdomain over the ranks (the apps' global numbering need not follow
+    /// the mesh partition), and rank-local aggregation then builds aggregates of a few nodes
+    /// (measured on the collapsing rings: twice the coarse rows and 2x the GMRES iterations).
+    std::vector<GO> owned_nodes(const Description& d, std::size_t k, GO offset, int rank, int size)
+    {
+      const auto&     b = d.blocks[k];
+      const GO        n = b.size / b.dofs_per_node;
+      std::vector<GO> nodes;
+      if (d.owner.empty())
+        {
+          const auto [lo, hi] = chunk(n, rank, size);
+          for (GO i = lo; i < hi; ++i)
+            nodes.push_back(i);
+          return nodes;
+        }
+      auto owner = [&](GO node) { return d.owner[offset + node * b.dofs_per_node]; };
+      if (size == d.written_ranks)
+        {
+          for (GO i = 0; i < n; ++i)
+            if (owner(i) == rank)
+              nodes.push_back(i);
+          return nodes;
+        }
+      std::vector<int> body(n, 0);
+      if (k == 0 && !d.body_labels.empty())
+        {
+          const auto labels = read_integer_column(d.body_labels, std::numeric_limits<int>::min(),
+                                                  std::numeric_limits<int>::max(), "body label");
+          if (static_cast<GO>(labels.size()) != b.size)
+            throw InputError(d.body_labels + ": " + std::to_string(labels.size()) +
+                             " body labels, expected " + std::to_string(b.size) + " (one per primal DOF)");
+          for (GO i = 0; i < n; ++i)
+            body[i] = labels[i * b.dofs_per_node];
+        }
+      std::vector<GO> order(n);
+      std::iota(order.begin(), order.end(), GO(0));
+      std::stable_sort(order.begin(), order.end(), [&](GO a, GO c) {
+        return std::make_pair(owner(a), body[a]) < std::make_pair(owner(c), body[c]);
+      });
+      const auto [lo, hi] = chunk(n, rank, size);
+      nodes.assign(order.begin() + lo, order.begin() + hi);
+      std::sort(nodes.begin(), nodes.end());
+      return nodes;
+    }
+
     BlockSystem load(const Description& d, RCP<const Comm> comm)
     {
       GO total = 0;
@@ -352,13 +451,16 @@ namespace multigrid
           }
       });
 
-      // Owned DOFs: primal nodes in contiguous chunks; multiplier nodes follow their primal node.
-      const int                    rank = comm->getRank(), size = comm->getSize();
+      // Owned DOFs: every block's nodes as the writer distributed them (see owned_nodes); the
+      // multiplier nodes of an interface follow their primal node.
+      const int rank = comm->getRank(), size = comm->getSize();
+      if (!d.owner.empty() && static_cast<GO>(d.owner.size()) != total)
+        throw InputError(d.source + ": the partition has " + std::to_string(d.owner.size()) +
+                         " rows, but the blocks add up to " + std::to_string(total));
       std::vector<BlockInfo>       blocks;
       std::vector<std::vector<GO>> owned(d.blocks.size());
-      std::vector<GO>              first_node(d.blocks.size(), 0);
+      std::unordered_map<GO, LO>   primal_local; // owned primal node -> its local node index
       GO                           offset = 0;
-      const auto primal_nodes             = chunk(d.blocks[0].size / d.blocks[0].dofs_per_node, rank, size);
       for (std::size_t k = 0; k < d.blocks.size(); ++k)
         {
           const auto& b = d.blocks[k];
@@ -366,20 +468,18 @@ namespace multigrid
           if (k == 1 && d.has_interface)
             {
               for (GO j = 0; j < n; ++j)
-                {
-                  const GO p = d.dual_to_primal[j];
-                  if (p >= primal_nodes.first && p < primal_nodes.second)
-                    for (int c = 0; c < b.dofs_per_node; ++c)
-                      owned[k].push_back(offset + j * b.dofs_per_node + c);
-                }
+                if (primal_local.count(d.dual_to_primal[j]))
+                  for (int c = 0; c < b.dofs_per_node; ++c)
+                    owned[k].push_back(offset + j * b.dofs_per_node + c);
             }
           else
-            {
-              const auto [lo, hi] = chunk(n, rank, size);
-              first_node[k]       = lo;
-              for (GO i = lo * b.dofs_per_node; i < hi * b.dofs_per_node; ++i)
-                owned[k].push_back(offset + i);
-            }
+            for (const GO node : owned_nodes(d, k, offset, rank, size))
+              {
+                if (k == 0)
+                  primal_local.emplace(node, static_cast<LO>(primal_local.size()));
+                for (int c = 0; c < b.dofs_per_node; ++c)
+                  owned[k].push_back(offset + node * b.dofs_per_node + c);
+              }
           BlockInfo info;
           info.name          = b.name;
           info.dofs_per_node = b.dofs_per_node;
@@ -421,7 +521,7 @@ namespace multigrid
               const GO dual_node   = (dual_gids[i] - dual.offset) / dual.dofs_per_node;
               const GO primal_node = d.dual_to_primal[dual_node];
               info.dual_to_primal_node[static_cast<LO>(i / dual.dofs_per_node)] =
-                  static_cast<LO>(primal_node - primal_nodes.first);
+                  primal_local.at(primal_node);
               for (int c = 0; c < primal.dofs_per_node; ++c)
                 interface_dofs.push_back(primal_node * primal.dofs_per_node + c);
             }
@@ -521,6 +621,14 @@ namespace multigrid
     // order of their global ids, i.e. in the row order of matrix.mm.
     IO::Write(partial + "/matrix.mm", *system.merged_matrix());
     write_in_global_order(*system.rhs(), partial + "/rhs.mm");
+    // The writer's rank of every row: a reader on the same number of ranks distributes the
+    // system as the app did (see owned_nodes in the reader).
+    {
+      auto owner = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(system.rhs()->getMap(), 1);
+      owner->putScalar(static_cast<SC>(comm.getRank()));
+      write_in_global_order(*owner, partial + "/partition.mm");
+      manifest << "partition partition.mm " << comm.getSize() << "\n";
+    }
     for (std::size_t k = 0; k < system.n_blocks(); ++k)
       {
         const auto& b        = system.block(k);

@@ -8,6 +8,7 @@
 //        rhs      rhs.mm                       (array format)
 //        block    <name> <size> <dofs per node> [nullspace file|-] [coordinates file|-]
 //        interface <dual-to-primal file> [segregation DOF file|-] [body labels file]
+//        partition <file> <ranks>               (optional: the writer's rank of every row)
 //     The dual-to-primal file is a Matrix Market integer array with two columns: for every
 //     multiplier node (0-based within block 1) the primal node it belongs to (0-based within block 0).
 //     The body labels file (a one-column array in block 0's DOF order) gives every primal DOF its
@@ -20,8 +21,11 @@
 //     primal size) and PREFIX_interface_dof_map_MPI1.mm (a Tpetra map file of the slave DOFs; the
 //     k-th multiplier node belongs to the k-th slave node).
 //
-// Distribution on read: primal nodes are split in contiguous equal chunks; every multiplier node
-// lives on the rank that owns its primal node (what InterfaceAggregationFactory requires).
+// Distribution on read: with a partition line (write_block_system writes one) on the writer's
+// number of ranks the writer's distribution, on another number the nodes in the order (writer's
+// rank, id) cut into equal chunks; without one, every block's nodes in contiguous equal chunks of
+// their ids. Every multiplier node of an interface lives on the rank that owns its primal node
+// (what InterfaceAggregationFactory requires).
 #pragma once
 
 #include "block_system.h"

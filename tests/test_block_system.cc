@@ -133,6 +133,63 @@ TEST(BlockSystemIO, VectorsAreWrittenInGlobalIdOrder)
     fs::remove_all(dir);
 }
 
+// The partition written with a system decides the distribution on read: on the writer's number of
+// ranks each rank gets exactly the nodes the file names (here an interleaved pattern that
+// contiguous chunks of the ids would not give), the multipliers follow their primal node, and
+// another number of ranks (each rank alone) gets whole sets. A partition naming a rank the
+// writer did not have is a one-line error.
+TEST(BlockSystemIO, PartitionFileDecidesTheDistribution)
+{
+  const auto        system = tied_blocks_2d(comm(), {});
+  const std::string dir    = scratch("partition");
+  write_block_system(system, dir);
+  const int  size = comm()->getSize(), rank = comm()->getRank();
+  const auto primal = system.block(0), dual = system.block(1);
+  const GO   total           = primal.global_size + dual.global_size;
+  auto       write_partition = [&](const std::string& bad_value) {
+    if (rank == 0)
+      {
+        std::ofstream out(dir + "/partition.mm");
+        out << "%%MatrixMarket matrix array real general\n" << total << " 1\n";
+        for (GO g = 0; g < total; ++g)
+          {
+            const GO node = g < primal.global_size ? g / primal.dofs_per_node
+                                                         : (g - primal.global_size) / dual.dofs_per_node;
+            out << (g == 0 && !bad_value.empty() ? bad_value : std::to_string(node % size)) << "\n";
+          }
+      }
+    comm()->barrier();
+  };
+  write_partition("");
+  const auto again = read_block_system(dir, comm());
+  const auto gids  = again.block(0).map->getNodeElementList();
+  int        wrong = 0;
+  for (auto g : gids)
+    wrong += (g / primal.dofs_per_node) % size != rank;
+  EXPECT_EQ(wrong, 0);
+  GO owned = gids.size(), all = 0;
+  Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, owned, Teuchos::outArg(all));
+  EXPECT_EQ(all, primal.global_size);
+  // Every owned multiplier node names an owned primal node, and the operator is the same.
+  for (const auto& [d, p] : again.interface().dual_to_primal_node)
+    EXPECT_LT(static_cast<std::size_t>(p), gids.size() / primal.dofs_per_node) << "dual node " << d;
+  EXPECT_NEAR(again.merged_matrix()->getFrobeniusNorm(), system.merged_matrix()->getFrobeniusNorm(),
+              1e-14 * system.merged_matrix()->getFrobeniusNorm());
+  const auto alone = read_block_system(dir, comm()->split(rank, 0));
+  EXPECT_EQ(static_cast<GO>(alone.block(0).map->getNodeNumElements()), primal.global_size);
+
+  write_partition(std::to_string(size + 5));
+  const auto bad = error_of([&] { read_block_system(dir, comm()); });
+  EXPECT_NE(bad.find("partition.mm: row 0 has rank '" + std::to_string(size + 5) +
+                     "', expected an integer 0.." + std::to_string(size - 1)),
+            std::string::npos)
+      << bad;
+  EXPECT_EQ(bad.find('\n'), std::string::npos) << bad;
+  comm()->barrier();
+  if (rank == 0)
+    fs::remove_all(dir);
+}
+
 TEST(BlockSystemIO, ReadsThePeerSingleMatrixConvention)
 {
   auto s = read_block_system(peer("meshtying2D_small"), comm());
