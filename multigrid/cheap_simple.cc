@@ -35,7 +35,9 @@ namespace multigrid
   } // namespace
 
   CheapSimpleOperator::CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& p)
-      : system_(system)
+      : merged_(system.merged_matrix())
+      , extractor_(system.map_extractor())
+      , full_map_(system.full_map())
   {
     if (system.n_blocks() != 2)
       throw InputError("CheapSIMPLE needs a 2 x 2 block system, got " + std::to_string(system.n_blocks()) +
@@ -89,8 +91,8 @@ namespace multigrid
     if (mode != Teuchos::NO_TRANS)
       throw std::logic_error("CheapSimpleOperator: transposed apply is not supported");
     using MVF        = Xpetra::MultiVectorFactory<SC, LO, GO, NO>;
-    const auto& ext  = *system_.map_extractor();
-    const auto  full = system_.full_map();
+    const auto& ext  = *extractor_;
+    const auto  full = full_map_;
     const auto  n    = X.getNumVectors();
     auto        x    = MVF::Build(full, n, true);
     auto        r    = MVF::Build(full, n);
@@ -107,7 +109,7 @@ namespace multigrid
           r->update(1.0, X, 0.0);
         else
           {
-            system_.merged_matrix()->apply(*x, *r);
+            merged_->apply(*x, *r);
             r->update(1.0, X, -1.0);
           }
         auto r1 = ext.ExtractVector(r, 0);
@@ -144,7 +146,7 @@ namespace multigrid
   void CheapSimpleOperator::residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
                                      ::multigrid::MultiVector& R) const
   {
-    system_.merged_matrix()->apply(X, R);
+    merged_->apply(X, R);
     R.update(1.0, B, -1.0);
   }
 

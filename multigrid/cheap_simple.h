@@ -46,8 +46,8 @@ namespace multigrid
     /// "schur solver" (MueLu parameter lists).
     CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& parameters);
 
-    RCP<const ::multigrid::Map> getDomainMap() const override { return system_.full_map(); }
-    RCP<const ::multigrid::Map> getRangeMap() const override { return system_.full_map(); }
+    RCP<const ::multigrid::Map> getDomainMap() const override { return full_map_; }
+    RCP<const ::multigrid::Map> getRangeMap() const override { return full_map_; }
     void                        apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,
                                       Teuchos::ETransp mode = Teuchos::NO_TRANS, SC alpha = 1.0, SC beta = 0.0) const override;
     void                        residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
@@ -61,7 +61,11 @@ namespace multigrid
     long long                                    inverse_approximation_nonzeros() const;
 
   private:
-    const BlockSystem&                    system_;
+    // The system's operator and block splitting by reference count (not the BlockSystem itself):
+    // a Newton solver may keep this preconditioner after the system it was built from is gone.
+    RCP<const Matrix>                     merged_;
+    RCP<const MapExtractor>               extractor_;
+    RCP<const ::multigrid::Map>           full_map_;
     int                                   sweeps_  = 1;
     double                                damping_ = 1.0;
     RCP<Matrix>                           A_, B1t_, B2_, S_;

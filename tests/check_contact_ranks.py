@@ -5,8 +5,11 @@ but round-off and the preconditioner: every run converges the same steps at the 
 the same Newton steps and the same number of active contact nodes in every Newton step (from
 run_log.jsonl), its average GMRES iterations per Newton step is within --gmres (relative, default
 10 %) of the first run's, and its final displacement norms (the app's "Displacement norms: l2 L,
-max M" line) agree to --norms (relative, default 1e-8). Prints the figures; exit status 0 if all
-hold, 1 otherwise.
+max M" line) agree to --norms (relative, default 1e-8). With --variant S/E=V (repeatable) the runs
+on every rank count add those settings and are compared with a run on the first rank count
+without them (e.g. a solver option that must not change the Newton path); --min-reused N also
+requires at least N Newton steps solved with a kept preconditioner ("preconditioner_reused"),
+each logged with zero set-up seconds. Prints the figures; exit status 0 if all hold, 1 otherwise.
 
   check_contact_ranks.py --app build/apps/contact_blocks --mpiexec mpirun --prm apps/contact_rings_2d.prm
                          --out DIR [--ranks 1 2] [--gmres 0.1] [--norms 1e-8] [--set S/E=V]...
@@ -21,15 +24,15 @@ import sys
 from app_runs import app_command
 
 
-def run(args, ranks):
-    out = os.path.join(args.out, f"np{ranks}")
-    command = app_command(args.mpiexec, ranks, args.app, args.prm, out, ["Output/VTK=false"] + args.set)
+def run(args, ranks, variant=()):
+    out = os.path.join(args.out, f"np{ranks}" + ("_variant" if variant else ""))
+    command = app_command(args.mpiexec, ranks, args.app, args.prm, out, ["Output/VTK=false"] + args.set + list(variant))
     result = subprocess.run(command, capture_output=True, text=True)
     norms = re.search(r"Displacement norms: l2 (\S+), max (\S+)", result.stdout)
     if result.returncode != 0 or not norms or "; converged" not in result.stdout:
         print(f"the run on {ranks} ranks failed (exit {result.returncode}): {result.stderr[-600:]}")
         return None
-    newton, steps, gmres = {}, [], []
+    newton, steps, gmres, reused, reused_with_setup = {}, [], [], 0, 0
     for line in open(os.path.join(out, "run_log.jsonl")):
         entry = json.loads(line)
         if "newton" in entry:
@@ -37,10 +40,13 @@ def run(args, ranks):
             newton.setdefault(key, []).append(entry.get("active"))
             if "linear_iterations" in entry:
                 gmres.append(entry["linear_iterations"])
+            if entry.get("preconditioner_reused"):
+                reused += 1
+                reused_with_setup += entry.get("setup_seconds", 0) != 0
         elif "converged_step" in entry:
             steps.append((entry["converged_step"], round(entry["time"], 12)))
     return {"norms": tuple(float(x) for x in norms.groups()), "newton": newton, "steps": steps,
-            "gmres": sum(gmres) / max(len(gmres), 1)}
+            "gmres": sum(gmres) / max(len(gmres), 1), "reused": reused, "reused_with_setup": reused_with_setup}
 
 
 def main():
@@ -53,19 +59,29 @@ def main():
     parser.add_argument("--gmres", type=float, default=0.1)
     parser.add_argument("--norms", type=float, default=1e-8)
     parser.add_argument("--set", action="append", default=[])
+    parser.add_argument("--variant", action="append", default=[])
+    parser.add_argument("--min-reused", type=int, default=0)
     args = parser.parse_args()
-    runs = {r: run(args, r) for r in args.ranks}
-    if any(v is None for v in runs.values()):
-        return 1
     first = args.ranks[0]
-    ref = runs[first]
+    ref = run(args, first)
+    runs = {r: run(args, r, args.variant) if args.variant else (ref if r == first else run(args, r)) for r in args.ranks}
+    if ref is None or any(v is None for v in runs.values()):
+        return 1
     failures = []
+    if args.variant:
+        print(f"reference ({first} ranks, without {args.variant}): {len(ref['steps'])} steps, GMRES per Newton "
+              f"step {ref['gmres']:.2f}, displacement l2 {ref['norms'][0]:.15g}, max {ref['norms'][1]:.15g}")
     for r in args.ranks:
         x = runs[r]
         iterates = sum(len(v) for v in x["newton"].values())
         print(f"{r} ranks: {len(x['steps'])} steps, {iterates} Newton iterates, GMRES per Newton step "
-              f"{x['gmres']:.2f}, displacement l2 {x['norms'][0]:.15g}, max {x['norms'][1]:.15g}")
-        if r == first:
+              f"{x['gmres']:.2f}, displacement l2 {x['norms'][0]:.15g}, max {x['norms'][1]:.15g}, "
+              f"{x['reused']} solves with a kept preconditioner")
+        if x["reused"] < args.min_reused:
+            failures.append(f"{r} ranks: {x['reused']} solves with a kept preconditioner (expected >= {args.min_reused})")
+        if x["reused_with_setup"]:
+            failures.append(f"{r} ranks: {x['reused_with_setup']} solves with a kept preconditioner log set-up seconds")
+        if x is ref:
             continue
         if x["steps"] != ref["steps"]:
             failures.append(f"{r} ranks: other converged steps/times than {first}")

@@ -91,15 +91,14 @@ namespace physics
     return phi;
   }
 
-  std::string NewtonSolver::solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
-                                         double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
-                                         const std::string& aggregates_path)
+  std::string NewtonSolver::build_preconditioner(const multigrid::BlockSystem& system,
+                                                 const std::string& aggregates_path, std::uint64_t state)
   {
-    std::unique_ptr<multigrid::BlockPreconditioner> preconditioner;
+    preconditioner_.reset();
     try
       {
         dealii::TimerOutput::Scope scope(timer_, "preconditioner setup");
-        preconditioner =
+        preconditioner_ =
             std::make_unique<multigrid::BlockPreconditioner>(system, preset_, settings_.export_aggregates);
       }
     catch (const multigrid::InputError&)
@@ -113,13 +112,46 @@ namespace physics
         console_ << "\n";
         return "the preconditioner set-up failed (" + what.substr(0, 200) + ")";
       }
+    preconditioner_state_ = state;
     if (!aggregates_path.empty())
-      multigrid::write_aggregates(system, preconditioner->aggregates(), aggregates_path);
+      multigrid::write_aggregates(system, preconditioner_->aggregates(), aggregates_path);
+    return "";
+  }
+
+  std::string NewtonSolver::solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
+                                         double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
+                                         const std::string& aggregates_path, std::uint64_t state)
+  {
+    // A kept preconditioner approximates the inverse of an earlier Newton matrix of this step with
+    // the same active set; GMRES still solves the new system, and where it does not converge with
+    // it the solve is repeated with a preconditioner of the new matrix.
+    bool reused = settings_.reuse_preconditioner && preconditioner_ && preconditioner_state_ == state;
+    if (!reused)
+      if (const auto failure = build_preconditioner(system, aggregates_path, state); !failure.empty())
+        return failure;
     multigrid::SolveReport report;
     {
       dealii::TimerOutput::Scope scope(timer_, "linear solve");
-      report = multigrid::solve(system, *preconditioner, dx, options_);
+      report = multigrid::solve(system, *preconditioner_, dx, options_);
     }
+    if (reused && !report.converged)
+      {
+        line.add("reused_preconditioner_iterations", report.iterations);
+        reused = false;
+        if (const auto failure = build_preconditioner(system, aggregates_path, state); !failure.empty())
+          return failure;
+        const double first_seconds = report.solve_seconds;
+        {
+          dealii::TimerOutput::Scope scope(timer_, "linear solve");
+          report = multigrid::solve(system, *preconditioner_, dx, options_);
+        }
+        report.solve_seconds += first_seconds;
+      }
+    if (reused)
+      report.preconditioner.setup_seconds = 0;
+    line.add("preconditioner_reused", reused);
+    if (!settings_.reuse_preconditioner)
+      preconditioner_.reset();
     result.linear_iterations.push_back(report.iterations);
     result.setup_seconds += report.preconditioner.setup_seconds;
     result.solve_seconds += report.solve_seconds;
@@ -179,6 +211,7 @@ namespace physics
     // The problem's discrete states of this step (signature -> last iteration, its residual).
     StatesSeen                   states_seen;
     std::uint64_t                last_state = 0;
+    preconditioner_.reset(); // a kept preconditioner serves one Newton solve (one load/time step)
 
     // One linearization with its log line started: returns false (result.failure set) if the
     // assembly failed.
@@ -304,7 +337,8 @@ namespace physics
             solve_linear(*lin.system, *dx, result.residuals.front(), line, result,
                          settings_.export_aggregates ? settings_.aggregates_directory + "/" + export_prefix +
                                                            "-newton" + std::to_string(it)
-                                                     : "");
+                                                     : "",
+                         problem.state_signature());
         if (!result.failure.empty())
           {
             line.add("failure", result.failure);

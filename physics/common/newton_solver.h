@@ -48,6 +48,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <map>
 #include <ostream>
 #include <set>
@@ -76,6 +77,10 @@ namespace physics
     /// at most this times ||b||, or this times the step's first Newton residual; above both
     /// the solve has failed.
     double accepted_linear_residual = 1e-3;
+    /// Keep a Newton step's preconditioner for the next Newton steps of the same solve while the
+    /// problem's state_signature() is the one it was built for (an unconverged solve with a kept
+    /// one is repeated with a fresh one).
+    bool reuse_preconditioner = false;
     /// Testing the failure handling: these linear solves (counted from 1 over the solver's life)
     /// are reported as failed after they ran.
     std::set<int> injected_failures;
@@ -186,9 +191,13 @@ namespace physics
     /// Preconditioner set-up and GMRES on the system; logs the solve. Returns the failure
     /// message of a failed solve (empty if usable). A non-empty `aggregates_path` writes the
     /// hierarchy's aggregates there (.pvtu).
-    std::string           solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
-                                       double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
-                                       const std::string& aggregates_path);
+    std::string solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
+                             double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
+                             const std::string& aggregates_path, std::uint64_t state);
+    /// A fresh preconditioner for `system` (kept for reuse when the settings ask for it), or ""
+    /// replaced by the failure message of a set-up that failed.
+    std::string build_preconditioner(const multigrid::BlockSystem& system, const std::string& aggregates_path,
+                                     std::uint64_t state);
     const FieldTolerance& tolerance(std::size_t field) const;
 
     NewtonSettings              settings_;
@@ -200,5 +209,9 @@ namespace physics
     MPI_Comm                    comm_;
     FieldTolerance              default_tolerance_;
     int                         solves_ = 0; ///< linear solves so far (injected failures)
+    /// The preconditioner of the last solve and the problem state it was built for (reused
+    /// within one Newton solve only: NewtonSettings::reuse_preconditioner).
+    std::unique_ptr<multigrid::BlockPreconditioner> preconditioner_;
+    std::uint64_t                                   preconditioner_state_ = 0;
   };
 } // namespace physics

@@ -107,6 +107,12 @@ namespace physics
                       "above both (or on a breakdown) the step fails and is cut (0 < value < 1). The default "
                       "tolerates an inexact solve (SuperLU without equilibration stalls near 1e-6 on contact "
                       "systems) but not one that barely reduced the residual.");
+    prm.declare_entry("Reuse preconditioner", reuse_preconditioner ? "true" : "false", Bool(),
+                      "Keep the preconditioner of a Newton step for the following Newton steps of the same "
+                      "load/time step while the problem's discrete state (contact: the active set and "
+                      "stick/slip) is the one it was built for, instead of setting up a new one from the new "
+                      "matrix; a solve with a kept preconditioner that does not converge is repeated with a "
+                      "fresh one. Saves the set-up where Newton only polishes a settled active set.");
     prm.declare_entry("Injected failures", "", Anything(),
                       "For testing the failure handling: comma-separated numbers of linear solves (counted from 1 "
                       "over the run) that are reported as failed after they ran. Empty: none.");
@@ -161,6 +167,7 @@ namespace physics
     restart               = prm.get_integer("Restart");
     accepted_linear_residual =
         parameters::tolerance(prm.get_double("Accepted residual"), "'Accepted residual' (Linear solver)");
+    reuse_preconditioner = prm.get_bool("Reuse preconditioner");
     injected_failures.clear();
     for (const double n : parameters::numbers(prm.get("Injected failures"), "Injected failures"))
       {
@@ -179,6 +186,7 @@ namespace physics
     s.line_search              = line_search;
     s.line_search_steps        = line_search_steps;
     s.accepted_linear_residual = accepted_linear_residual;
+    s.reuse_preconditioner     = reuse_preconditioner;
     s.injected_failures        = injected_failures;
     for (const auto& field : fields)
       {
