@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian 12 machine:
-#   scripts/setup.sh run    install what is missing, build, run the main example (small default)
+#   scripts/setup.sh run    install what is missing, build, run the main example (the collapsing rings)
 #   scripts/setup.sh test   install what is missing, build, run the test suite (ctest)
 #   scripts/setup.sh build  install and build only
 # Idempotent: packages already present are not reinstalled, the build is incremental.
@@ -44,8 +44,10 @@ cmake --build build -j "$jobs"
 
 case "$mode" in
   run)
-    # The main example: 2D two-block mortar contact (apps/contact_blocks_2d.prm), 2 ranks.
-    mpirun -np 2 build/apps/contact_blocks apps/contact_blocks_2d.prm
+    # The main example: the collapsing rings (apps/contact_rings_2d.prm, 24 rings with Coulomb
+    # friction pressed by a plate until the pile collapses), 2 ranks; output in
+    # output/contact_rings_2d (ParaView: solution.pvd; postprocess/render_all.py draws it).
+    mpirun -np 2 build/apps/contact_blocks apps/contact_rings_2d.prm
     ;;
   test)
     cd build && ctest --output-on-failure -j "$jobs" -LE benchmark
