@@ -79,6 +79,24 @@ namespace multigrid
         }
     }
 
+    /// The value lines of a Matrix Market array file: every line after the comments and the size line.
+    std::vector<std::string> array_lines(const std::string& file)
+    {
+      std::ifstream            in(file);
+      std::string              line;
+      bool                     seen_size = false;
+      std::vector<std::string> lines;
+      while (std::getline(in, line))
+        {
+          if (line.empty() || line[0] == '%')
+            continue;
+          if (seen_size)
+            lines.push_back(line);
+          seen_size = true;
+        }
+      return lines;
+    }
+
     std::vector<GO> read_integer_array(const std::string& file, long long& rows, long long& cols)
     {
       const auto header = scan_matrix_market(file);
@@ -86,21 +104,9 @@ namespace multigrid
         throw InputError(file + ": expected a Matrix Market 'array integer' file");
       rows = header.rows;
       cols = header.cols;
-      std::ifstream   in(file);
-      std::string     line;
-      bool            seen_size = false;
       std::vector<GO> values;
-      while (std::getline(in, line))
-        {
-          if (line.empty() || line[0] == '%')
-            continue;
-          if (!seen_size)
-            {
-              seen_size = true;
-              continue;
-            }
-          values.push_back(std::strtoll(line.c_str(), nullptr, 10));
-        }
+      for (const auto& line : array_lines(file))
+        values.push_back(std::strtoll(line.c_str(), nullptr, 10));
       return values;
     }
 
@@ -111,19 +117,9 @@ namespace multigrid
       const auto header = scan_matrix_market(file);
       if (header.coordinate || header.cols != 1)
         throw InputError(file + ": expected a one-column Matrix Market array (" + what + ")");
-      std::ifstream    in(file);
-      std::string      line;
-      bool             seen_size = false;
       std::vector<int> values;
-      while (std::getline(in, line))
+      for (const auto& line : array_lines(file))
         {
-          if (line.empty() || line[0] == '%')
-            continue;
-          if (!seen_size)
-            {
-              seen_size = true;
-              continue;
-            }
           const double r = std::strtod(line.c_str(), nullptr);
           if (!(r >= lo && r <= hi) || r != static_cast<int>(r))
             throw InputError(file + ": row " + std::to_string(values.size()) + " has " + what + " '" + line +

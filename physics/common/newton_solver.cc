@@ -149,7 +149,8 @@ namespace physics
       }
     if (reused)
       report.preconditioner.setup_seconds = 0;
-    line.add("preconditioner_reused", reused);
+    if (settings_.reuse_preconditioner)
+      line.add("preconditioner_reused", reused);
     if (!settings_.reuse_preconditioner)
       preconditioner_.reset();
     result.linear_iterations.push_back(report.iterations);
