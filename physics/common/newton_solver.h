@@ -194,8 +194,8 @@ namespace physics
     std::string solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
                              double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
                              const std::string& aggregates_path, std::uint64_t state);
-    /// A fresh preconditioner for `system` (kept for reuse when the settings ask for it), or ""
-    /// replaced by the failure message of a set-up that failed.
+    /// Sets up a fresh preconditioner for `system` (kept in preconditioner_ with `state`);
+    /// returns "" or the failure message of a set-up that failed.
     std::string build_preconditioner(const multigrid::BlockSystem& system, const std::string& aggregates_path,
                                      std::uint64_t state);
     const FieldTolerance& tolerance(std::size_t field) const;
