@@ -27,12 +27,10 @@ PRESETS = ["fully-coupled-sa-amg(simple)", "emin(cheapsimple)", "sa-amg(cheapsim
            "cheapsimple(sa-amg)", "cheapsimplec(sgs)", "direct(superlu)"]
 
 
-def run(build, level, variant, ranks, out_dir, extra_settings, index):
-    preset, _, variant_overrides = variant.partition("@")
+def run(build, level, preset, variant_overrides, ranks, out_dir, extra_settings, index):
     directory = os.path.join(out_dir, f"level{level}-{index:02d}-{preset.replace('(', '_').replace(')', '')}")
     overrides = "template parameters/COARSE_MAX_SIZE=1000" if "template" in open_preset_kind(preset) else ""
-    if variant_overrides:
-        overrides = ";".join(o for o in (overrides, variant_overrides) if o)
+    overrides = ";".join(o for o in (overrides, variant_overrides) if o)
     cmd = ["mpirun", "-np", str(ranks), "--oversubscribe", os.path.join(build, "apps", "contact_blocks"),
            "apps/contact_blocks_3d.prm", "--set", f"Mesh/Gmsh refinement={level}",
            "--set", f"Linear solver/Preset={preset}", "--set", f"Linear solver/Overrides={overrides}",
@@ -50,7 +48,7 @@ def run(build, level, variant, ranks, out_dir, extra_settings, index):
     solves = [r for r in rows if "linear_iterations" in r]
     its = [r["linear_iterations"] for r in solves]
     return {
-        "level": level, "preset": variant, "exit": proc.returncode, "wall_seconds": round(wall, 2),
+        "level": level, "preset": preset, "variant_overrides": variant_overrides, "exit": proc.returncode, "wall_seconds": round(wall, 2),
         "dofs": solves[0]["global_size"] if solves else None,
         "newton_steps": len(solves), "gmres_average": round(sum(its) / len(its), 1) if its else None,
         "gmres_max": max(its) if its else None,
@@ -84,14 +82,14 @@ def main():
     print(f"{'level':>5} {'DOFs':>8} {'preset':<24} {'Newton':>6} {'GMRES avg':>9} {'max':>5} {'setup s':>8} "
           f"{'solve s':>8} {'op.cx':>5} {'peak MB':>7} {'exit':>4}")
     for level in args.levels:
-        for index, preset in enumerate(args.presets):
-            r = run(args.build, level, preset, args.ranks, out_dir, args.settings, index)
+        for index, variant in enumerate(args.presets):
+            preset, _, variant_overrides = variant.partition("@")
+            r = run(args.build, level, preset, variant_overrides, args.ranks, out_dir, args.settings, index)
             results.append(r)
-            name, _, variant = preset.partition("@")
-            print(f"{r['level']:>5} {str(r['dofs']):>8} {name:<24} {r['newton_steps']:>6} "
+            print(f"{r['level']:>5} {str(r['dofs']):>8} {preset:<24} {r['newton_steps']:>6} "
                   f"{str(r['gmres_average']):>9} {str(r['gmres_max']):>5} {r['setup_seconds']:>8} "
                   f"{r['solve_seconds']:>8} {str(r['operator_complexity']):>5} {str(r['peak_memory_mb']):>7} "
-                  f"{r['exit']:>4}" + (f"  with {variant}" if variant else ""), flush=True)
+                  f"{r['exit']:>4}" + (f"  with {variant_overrides}" if variant_overrides else ""), flush=True)
     write_json_atomically(args.out, {"ranks": args.ranks, "results": results})
     return 0 if all(r["exit"] == 0 for r in results) else 1
 
