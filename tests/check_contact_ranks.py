@@ -3,7 +3,10 @@
 oversubscribed where the machine has fewer cores) and checks that the partition changes nothing
 but round-off and the preconditioner: every run converges the same steps at the same times with
 the same Newton steps and the same number of active contact nodes in every Newton step (from
-run_log.jsonl), its average GMRES iterations per Newton step is within --gmres (relative, default
+run_log.jsonl; with --newton-slack N a load step may take up to N Newton steps more or fewer if
+its converged active set has the same size: GMRES solves to a relative 1e-8, so the iterates of
+two partitions differ at about 1e-6, and a node at the threshold of the semi-smooth Newton
+method's active-set decision can switch one Newton step later), its average GMRES iterations per Newton step is within --gmres (relative, default
 10 %) of the first run's, and its final displacement norms (the app's "Displacement norms: l2 L,
 max M" line) agree to --norms (relative, default 1e-8). With --variant S/E=V (repeatable) the runs
 on every rank count add those settings and are compared with a run on the first rank count
@@ -12,7 +15,8 @@ requires at least N Newton steps solved with a kept preconditioner ("preconditio
 each logged with zero set-up seconds. Prints the figures; exit status 0 if all hold, 1 otherwise.
 
   check_contact_ranks.py --app build/apps/contact_blocks --mpiexec mpirun --prm apps/contact_rings_2d.prm
-                         --out DIR [--ranks 1 2] [--gmres 0.1] [--norms 1e-8] [--set S/E=V]...
+                         --out DIR [--ranks 1 2] [--gmres 0.1] [--norms 1e-8] [--newton-slack 0]
+                         [--set S/E=V]...
 """
 import argparse
 import json
@@ -49,6 +53,14 @@ def run(args, ranks, variant=()):
             "gmres": sum(gmres) / max(len(gmres), 1), "reused": reused, "reused_with_setup": reused_with_setup}
 
 
+def same_newton_path(a, b, slack):
+    """The active-set sizes of one load step's Newton iterates: equal, or (slack > 0) ending in the
+    same converged size after at most `slack` Newton steps more or fewer."""
+    if a == b:
+        return True
+    return slack > 0 and a is not None and b is not None and a[-1] == b[-1] and abs(len(a) - len(b)) <= slack
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--app", required=True)
@@ -61,6 +73,7 @@ def main():
     parser.add_argument("--set", action="append", default=[])
     parser.add_argument("--variant", action="append", default=[])
     parser.add_argument("--min-reused", type=int, default=0)
+    parser.add_argument("--newton-slack", type=int, default=0)
     args = parser.parse_args()
     first = args.ranks[0]
     ref = run(args, first)
@@ -85,9 +98,15 @@ def main():
             continue
         if x["steps"] != ref["steps"]:
             failures.append(f"{r} ranks: other converged steps/times than {first}")
-        if x["newton"] != ref["newton"]:
-            differ = [k for k in sorted(set(x["newton"]) | set(ref["newton"])) if x["newton"].get(k) != ref["newton"].get(k)]
+        differ = [k for k in sorted(set(x["newton"]) | set(ref["newton"]))
+                  if not same_newton_path(x["newton"].get(k), ref["newton"].get(k), args.newton_slack)]
+        if differ:
             failures.append(f"{r} ranks: Newton steps or active sets differ from {first} ranks in steps {differ[:5]}")
+        elif x["newton"] != ref["newton"]:
+            slack = [k for k in sorted(x["newton"]) if x["newton"][k] != ref["newton"][k]]
+            print(f"{r} ranks: other Newton paths to the same converged active sets in steps {slack[:5]} "
+                  f"(Newton steps {[len(x['newton'][k]) for k in slack[:5]]} against "
+                  f"{[len(ref['newton'][k]) for k in slack[:5]]}; allowed: {args.newton_slack} more or fewer)")
         ratio = x["gmres"] / ref["gmres"] - 1
         if abs(ratio) > args.gmres:
             failures.append(f"{r} ranks: GMRES per Newton step {ratio:+.1%} against {first} ranks (allowed {args.gmres:.0%})")

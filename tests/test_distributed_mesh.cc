@@ -108,6 +108,74 @@ TEST(DistributedMesh, AGmshSourceIsMeshedOnceAndRefinedBeforePartitioning)
   EXPECT_EQ(fine.n_global_active_cells(), 4 * coarse.n_global_active_cells());
 }
 
+namespace
+{
+  /// A 16 x 4 x 4 bar whose end face x = 16 (boundary id 1) stands for a contact surface: a
+  /// partition by cell count alone cuts the bar across, which leaves that face on one part.
+  void make_bar(Triangulation<3>& bar)
+  {
+    GridGenerator::subdivided_hyper_rectangle(bar, {16, 4, 4}, Point<3>(), Point<3>(16, 4, 4), true);
+  }
+
+  bool at_end_face(const Triangulation<3>::active_cell_iterator& cell)
+  {
+    for (const unsigned int f : cell->face_indices())
+      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == 1)
+        return true;
+    return false;
+  }
+} // namespace
+
+// The partition with two balances: every part gets its share of the 16 marked cells and of all
+// 256 cells, where the partition by cell count alone puts all marked cells on one of two parts.
+TEST(DistributedMesh, PartitionGivesEveryPartItsShareOfTheMarkedCells)
+{
+  Triangulation<3> bar;
+  make_bar(bar);
+  const auto plain = physics::partition_with_two_balances<3>(bar, 2, {});
+  EXPECT_EQ(plain[0] + plain[1], 0u); // nothing marked, nothing counted
+  unsigned int on_part_0 = 0;
+  for (const auto& cell : bar.active_cell_iterators())
+    on_part_0 += at_end_face(cell) && cell->subdomain_id() == 0;
+  EXPECT_TRUE(on_part_0 == 0 || on_part_0 == 16)
+      << on_part_0 << " of 16 marked cells on part 0 by cell count alone";
+
+  for (const unsigned int n_parts : {2u, 3u, 4u})
+    {
+      const auto                marked = physics::partition_with_two_balances<3>(bar, n_parts, at_end_face);
+      std::vector<unsigned int> cells(n_parts, 0), counted(n_parts, 0);
+      for (const auto& cell : bar.active_cell_iterators())
+        {
+          ASSERT_LT(cell->subdomain_id(), n_parts);
+          ++cells[cell->subdomain_id()];
+          counted[cell->subdomain_id()] += at_end_face(cell);
+        }
+      for (unsigned int p = 0; p < n_parts; ++p)
+        {
+          EXPECT_EQ(marked[p], counted[p]);
+          // METIS's default tolerance is 3 % over the average; one cell more for the rounding.
+          EXPECT_LE(cells[p], 1.03 * 256 / n_parts + 1) << n_parts << " parts, part " << p;
+          EXPECT_GE(marked[p], 16 / n_parts - 2) << n_parts << " parts, part " << p;
+          EXPECT_LE(marked[p], (16 + n_parts - 1) / n_parts + 2) << n_parts << " parts, part " << p;
+        }
+    }
+}
+
+// The same through the fully distributed mesh: on 2 ranks each owns marked cells.
+TEST(DistributedMesh, DistributedMeshBalancesTheMarkedCells)
+{
+  const MPI_Comm                               comm = MPI_COMM_WORLD;
+  parallel::fullydistributed::Triangulation<3> tria(comm);
+  physics::create_distributed_mesh<3>(tria, make_bar, 0, at_end_face);
+  unsigned int owned_marked = 0;
+  for (const auto& cell : tria.active_cell_iterators())
+    owned_marked += cell->is_locally_owned() && at_end_face(cell);
+  EXPECT_EQ(Utilities::MPI::sum(owned_marked, comm), 16u);
+  const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  EXPECT_GE(owned_marked, 16 / n_ranks - 2);
+  EXPECT_LE(Utilities::MPI::max(tria.n_locally_owned_active_cells(), comm), 1.03 * 256 / n_ranks + 1);
+}
+
 // An element that inverts in the cells of one rank only: every rank leaves the assembly with the
 // same std::domain_error (before, the rank that found it left while the others waited in the
 // matrix compress, and the next collective hung: the collapsing rings on 2 ranks).

@@ -6,8 +6,11 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
+
+#include <metis.h>
 
 #include <map>
 #include <memory>
@@ -36,12 +39,90 @@ namespace physics
     {
       return dealii::Utilities::MPI::this_mpi_process(comm) % group_size == 0;
     }
+
+    /// METIS's parts of the active cells of `tria` with two balance constraints, weights 1 and
+    /// is_marked per cell, on the cells' face graph.
+    template <int dim>
+    std::vector<idx_t> metis_parts_with_two_balances(const dealii::Triangulation<dim>& tria,
+                                                     unsigned int n_parts, const std::vector<char>& is_marked)
+    {
+      // The cells' face graph in METIS's compressed rows (no self-loops), two weights per cell.
+      const unsigned int             n_cells = tria.n_active_cells();
+      dealii::DynamicSparsityPattern graph;
+      dealii::GridTools::get_face_connectivity_of_cells(tria, graph);
+      std::vector<idx_t> row_start{0}, neighbours, weights;
+      row_start.reserve(n_cells + 1);
+      weights.reserve(2 * n_cells);
+      for (unsigned int i = 0; i < n_cells; ++i)
+        {
+          for (auto entry = graph.begin(i); entry != graph.end(i); ++entry)
+            if (entry->column() != i)
+              neighbours.push_back(static_cast<idx_t>(entry->column()));
+          row_start.push_back(static_cast<idx_t>(neighbours.size()));
+          weights.push_back(1);
+          weights.push_back(is_marked[i]);
+        }
+      idx_t n_vertices = n_cells, n_constraints = 2, parts = n_parts, edge_cut = 0;
+      idx_t options[METIS_NOPTIONS];
+      METIS_SetDefaultOptions(options);
+      std::vector<idx_t> metis_part(n_cells);
+      // Recursive bisection for few parts, k-way beyond, as deal.II's METIS partition chooses.
+      const auto partition = n_parts <= 8 ? METIS_PartGraphRecursive : METIS_PartGraphKway;
+      const int  status =
+          partition(&n_vertices, &n_constraints, row_start.data(), neighbours.data(), weights.data(), nullptr,
+                    nullptr, &parts, nullptr, nullptr, options, &edge_cut, metis_part.data());
+      if (status != METIS_OK)
+        throw std::runtime_error("METIS could not partition the mesh into " + std::to_string(n_parts) +
+                                 " parts balancing the marked cells (status " + std::to_string(status) + ")");
+      return metis_part;
+    }
   } // namespace
+
+  template <int dim>
+  std::vector<unsigned int> partition_with_two_balances(dealii::Triangulation<dim>& tria,
+                                                        unsigned int n_parts, const CellMarker<dim>& marked)
+  {
+    const unsigned int n_cells = tria.n_active_cells();
+    std::vector<char>  is_marked(n_cells, 0);
+    unsigned int       n_marked = 0;
+    if (marked)
+      for (const auto& cell : tria.active_cell_iterators())
+        if (marked(cell))
+          {
+            is_marked[cell->active_cell_index()] = 1;
+            ++n_marked;
+          }
+
+    std::vector<unsigned int> part(n_cells, 0);
+    if (n_parts > 1 && n_marked < n_parts)
+      {
+        dealii::GridTools::partition_triangulation(n_parts, tria, dealii::SparsityTools::Partitioner::metis);
+        for (const auto& cell : tria.active_cell_iterators())
+          part[cell->active_cell_index()] = cell->subdomain_id();
+      }
+    else if (n_parts > 1)
+      {
+        const std::vector<idx_t> metis_part = metis_parts_with_two_balances(tria, n_parts, is_marked);
+        for (const auto& cell : tria.active_cell_iterators())
+          {
+            part[cell->active_cell_index()] = metis_part[cell->active_cell_index()];
+            cell->set_subdomain_id(metis_part[cell->active_cell_index()]);
+          }
+      }
+    else
+      for (const auto& cell : tria.active_cell_iterators())
+        cell->set_subdomain_id(0);
+
+    std::vector<unsigned int> marked_per_part(n_parts, 0);
+    for (unsigned int i = 0; i < n_cells; ++i)
+      marked_per_part[part[i]] += is_marked[i];
+    return marked_per_part;
+  }
 
   template <int dim>
   void create_distributed_mesh(dealii::parallel::fullydistributed::Triangulation<dim>& tria,
                                const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
-                               unsigned int group_size)
+                               unsigned int group_size, const CellMarker<dim>& balanced)
   {
     const MPI_Comm comm = tria.get_communicator();
     group_size          = resolved_group_size(comm, group_size);
@@ -63,13 +144,14 @@ namespace physics
     throw_if_any_rank_failed(error, comm);
 
     const auto description =
-        dealii::TriangulationDescription::Utilities::create_description_from_triangulation_in_groups<dim, dim>(
+        dealii::TriangulationDescription::Utilities::create_description_from_triangulation_in_groups<dim,
+                                                                                                     dim>(
             [&](dealii::Triangulation<dim>& t) { t = std::move(*serial); },
-            [](dealii::Triangulation<dim>& t, const MPI_Comm& c, unsigned int) {
+            [&](dealii::Triangulation<dim>& t, const MPI_Comm& c, unsigned int) {
               // METIS on the cell graph: parts of equal size with short interfaces, as the
-              // shared triangulation's partition_metis did before.
-              dealii::GridTools::partition_triangulation(dealii::Utilities::MPI::n_mpi_processes(c), t,
-                                                         dealii::SparsityTools::Partitioner::metis);
+              // shared triangulation's partition_metis did before; with equal shares of the
+              // marked cells too where the caller marks some.
+              partition_with_two_balances(t, dealii::Utilities::MPI::n_mpi_processes(c), balanced);
             },
             comm, static_cast<int>(group_size));
     serial.reset();
@@ -78,8 +160,9 @@ namespace physics
 
   template <int dim>
   void read_distributed_mesh(const std::string& file, const GmshSource& gmsh, int global_refinements,
-                             const std::string& work_directory,
-                             dealii::parallel::fullydistributed::Triangulation<dim>& tria)
+                             const std::string&                                      work_directory,
+                             dealii::parallel::fullydistributed::Triangulation<dim>& tria,
+                             const CellMarker<dim>&                                  balanced)
   {
     const MPI_Comm     comm       = tria.get_communicator();
     const unsigned int group_size = resolved_group_size(comm, 0);
@@ -94,7 +177,7 @@ namespace physics
               read_mesh(file, gmsh, work_directory, serial, roots);
               serial.refine_global(global_refinements);
             },
-            group_size);
+            group_size, balanced);
       }
     catch (...)
       {
@@ -154,9 +237,15 @@ namespace physics
   }
 
   template void create_distributed_mesh<2>(dealii::parallel::fullydistributed::Triangulation<2>&,
-                                           const std::function<void(dealii::Triangulation<2>&)>&, unsigned int);
+                                           const std::function<void(dealii::Triangulation<2>&)>&,
+                                           unsigned int, const CellMarker<2>&);
   template void create_distributed_mesh<3>(dealii::parallel::fullydistributed::Triangulation<3>&,
-                                           const std::function<void(dealii::Triangulation<3>&)>&, unsigned int);
+                                           const std::function<void(dealii::Triangulation<3>&)>&,
+                                           unsigned int, const CellMarker<3>&);
+  template std::vector<unsigned int> partition_with_two_balances<2>(dealii::Triangulation<2>&, unsigned int,
+                                                                    const CellMarker<2>&);
+  template std::vector<unsigned int> partition_with_two_balances<3>(dealii::Triangulation<3>&, unsigned int,
+                                                                    const CellMarker<3>&);
   template void add_boundary_constraints<2>(const dealii::DoFHandler<2>&, dealii::types::boundary_id,
                                             const dealii::Function<2>&, dealii::AffineConstraints<double>&,
                                             const dealii::ComponentMask&);
@@ -168,9 +257,11 @@ namespace physics
   template void close_distributed_constraints<3>(const dealii::DoFHandler<3>&, const dealii::IndexSet&,
                                                  dealii::AffineConstraints<double>&);
   template void read_distributed_mesh<2>(const std::string&, const GmshSource&, int, const std::string&,
-                                         dealii::parallel::fullydistributed::Triangulation<2>&);
+                                         dealii::parallel::fullydistributed::Triangulation<2>&,
+                                         const CellMarker<2>&);
   template void read_distributed_mesh<3>(const std::string&, const GmshSource&, int, const std::string&,
-                                         dealii::parallel::fullydistributed::Triangulation<3>&);
+                                         dealii::parallel::fullydistributed::Triangulation<3>&,
+                                         const CellMarker<3>&);
   template std::vector<double>
   owned_vertex_positions<2>(const dealii::DoFHandler<2>&, const dealii::IndexSet&,
                             const std::function<bool(dealii::types::global_dof_index)>&);

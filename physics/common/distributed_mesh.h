@@ -28,21 +28,42 @@
 
 namespace physics
 {
+  /// Marks the cells of a serial mesh whose work does not follow their number: the cells at a
+  /// contact surface, whose owners evaluate the mortar integrals of their faces. Empty: none.
+  template <int dim>
+  using CellMarker = std::function<bool(const typename dealii::Triangulation<dim>::active_cell_iterator&)>;
+
   /// Fills `tria` (empty) with the mesh `serial_mesh` builds. `serial_mesh` runs only on the
   /// first rank of each group, on an empty serial triangulation; it may throw
   /// std::invalid_argument (a bad file, a missing mesh), which is thrown on every rank.
-  /// `group_size` 0: one group per compute node (MPI_COMM_TYPE_SHARED).
+  /// `group_size` 0: one group per compute node (MPI_COMM_TYPE_SHARED). With `balanced`, the
+  /// partition gives every rank an equal share of the marked cells as well as of all cells
+  /// (partition_with_two_balances).
   template <int dim>
   void create_distributed_mesh(dealii::parallel::fullydistributed::Triangulation<dim>& tria,
                                const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
-                               unsigned int group_size = 0);
+                               unsigned int group_size = 0, const CellMarker<dim>& balanced = {});
 
   /// `create_distributed_mesh` of the gmsh mesh `file` (.geo meshed with `gmsh`'s refinement and
   /// variables, or .msh), refined `global_refinements` times before it is partitioned.
   template <int dim>
   void read_distributed_mesh(const std::string& file, const GmshSource& gmsh, int global_refinements,
-                             const std::string& work_directory,
-                             dealii::parallel::fullydistributed::Triangulation<dim>& tria);
+                             const std::string&                                      work_directory,
+                             dealii::parallel::fullydistributed::Triangulation<dim>& tria,
+                             const CellMarker<dim>&                                  balanced = {});
+
+  /// Sets the subdomain ids of the active cells of `tria` to `n_parts` parts by METIS on the
+  /// cells' face graph (short interfaces). Without `marked` (or with fewer marked cells than
+  /// parts) the parts have equal numbers of cells, as deal.II's partition_triangulation makes
+  /// them. With it, METIS's multi-constraint partitioning (Karypis & Kumar, SC'98) balances two
+  /// weights at once, 1 per cell and 1 per marked cell, so that every part also gets its share of
+  /// the marked cells: a single weight per cell can only balance a sum (a part with the whole
+  /// contact surface and fewer volume cells has the same sum as one with none), which leaves the
+  /// surface on one rank whenever a cut through the volume is shorter than one through the surface.
+  /// Returns the number of marked cells in each part.
+  template <int dim>
+  std::vector<unsigned int> partition_with_two_balances(dealii::Triangulation<dim>& tria,
+                                                        unsigned int n_parts, const CellMarker<dim>& marked);
 
   /// Dirichlet constraints u = g on the faces with boundary id `id` (components in `mask`),
   /// for the locally owned DOFs only. A fully distributed triangulation stores no cell beyond

@@ -23,6 +23,13 @@ namespace physics::contact
                                     "Physical volumes (2D: surfaces) give the bodies, physical surfaces (2D: lines) "
                                     "the boundary ids below.");
     prm.declare_entry("Dimension", "2", Integer(2, 3), "Space dimension of the mesh.");
+    prm.declare_entry(
+        "Balance contact surfaces", "true", dealii::Patterns::Bool(),
+        "Partition the mesh (METIS, one part per rank) so that every rank gets an equal share of "
+        "the cells at the contact surfaces (the slave surface; with Contact surface ids all of "
+        "them) as well as of all cells: the owner of a slave face evaluates its mortar integrals, "
+        "so a rank holding the whole surface would do the contact work of all. false: equal "
+        "numbers of cells only, which may put a whole surface on one rank.");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary ids");
@@ -172,7 +179,8 @@ namespace physics::contact
   {
     prm.enter_subsection("Mesh");
     parse_entries(prm);
-    dimension = prm.get_integer("Dimension");
+    dimension               = prm.get_integer("Dimension");
+    balance_contact_surface = prm.get_bool("Balance contact surfaces");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary ids");

@@ -69,7 +69,8 @@ namespace physics::contact
     {
       TimerOutput::Scope scope(timer_, "setup");
       prepare_output_directory(p_.output_directory, comm_);
-      read_distributed_mesh(p_.mesh_file, p_.gmsh_source(), p_.global_refinements, p_.output_directory, tria_);
+      read_distributed_mesh(p_.mesh_file, p_.gmsh_source(), p_.global_refinements, p_.output_directory, tria_,
+                            contact_surface_cells());
       check_boundary_ids();
 
       dof_handler_.distribute_dofs(fe_);
@@ -85,6 +86,27 @@ namespace physics::contact
       if (p_.dynamic())
         setup_dynamics();
       setup_output();
+    }
+
+    template <int dim>
+    CellMarker<dim> ContactProblem<dim>::contact_surface_cells() const
+    {
+      if (!p_.balance_contact_surface)
+        return {};
+      // The faces whose owners evaluate mortar integrals: the slave surface of two bodies; with
+      // several bodies every contact surface (which bodies are slaves is decided later, from
+      // the pairs, and every body is a slave in some pair with 'auto').
+      std::set<types::boundary_id> ids;
+      if (p_.multi_body())
+        ids.insert(p_.surface_ids.begin(), p_.surface_ids.end());
+      else
+        ids.insert(static_cast<types::boundary_id>(p_.slave_id));
+      return [ids](const typename Triangulation<dim>::active_cell_iterator& cell) {
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() && ids.count(cell->face(f)->boundary_id()))
+            return true;
+        return false;
+      };
     }
 
     template <int dim>

@@ -28,7 +28,8 @@ namespace physics::contact
         , OutputParameters{"output/contact"}
     {
     }
-    int dimension = 2;
+    int  dimension               = 2;
+    bool balance_contact_surface = true; ///< partition: equal shares of the contact-surface cells
     // Boundary and material ids
     int              slave_id = 1, master_id = 2, clamped_id = 3, loaded_id = 4;
     std::vector<int> symmetry; ///< pairs (boundary id, component) with zero normal displacement

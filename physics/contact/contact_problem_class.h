@@ -3,6 +3,7 @@
 // summary) in contact_state_output.cc. Internal to those two files.
 #pragma once
 
+#include "common/distributed_mesh.h"
 #include "common/newton_solver.h"
 #include "common/row_exchange.h"
 #include "common/run_output.h"
@@ -68,6 +69,8 @@ namespace physics::contact::internal
     /// Output directory, mesh, DOFs, then the set-up steps below in order.
     void setup();
     /// Setup: every boundary id the parameters name must exist in the mesh (on some rank).
+    /// The cells the mesh partition shares out evenly besides all cells (Balance contact surfaces).
+    CellMarker<dim> contact_surface_cells() const;
     void check_boundary_ids();
     /// Setup: the mortar contact surfaces, and the ghost DOFs they add to the relevant ones.
     void setup_contact();
