@@ -6,8 +6,8 @@ the same Newton steps and the same number of active contact nodes in every Newto
 run_log.jsonl; with --newton-slack N a load step may take up to N Newton steps more or fewer if
 its converged active set has the same size: GMRES solves to a relative 1e-8, so the iterates of
 two partitions differ at about 1e-6, and a node at the threshold of the semi-smooth Newton
-method's active-set decision can switch one Newton step later), its average GMRES iterations per Newton step is within --gmres (relative, default
-10 %) of the first run's, and its final displacement norms (the app's "Displacement norms: l2 L,
+method's active-set decision can switch one Newton step later), its average GMRES iterations per
+Newton step is within --gmres (relative, default 10 %) of the first run's, and its final displacement norms (the app's "Displacement norms: l2 L,
 max M" line) agree to --norms (relative, default 1e-8). With --variant S/E=V (repeatable) the runs
 on every rank count add those settings and are compared with a run on the first rank count
 without them (e.g. a solver option that must not change the Newton path); --min-reused N also
@@ -105,7 +105,7 @@ def main():
         elif x["newton"] != ref["newton"]:
             slack = [k for k in sorted(x["newton"]) if x["newton"][k] != ref["newton"][k]]
             print(f"{r} ranks: other Newton paths to the same converged active sets in steps {slack[:5]} "
-                  f"(Newton steps {[len(x['newton'][k]) for k in slack[:5]]} against "
+                  f"(Newton iterates {[len(x['newton'][k]) for k in slack[:5]]} against "
                   f"{[len(ref['newton'][k]) for k in slack[:5]]}; allowed: {args.newton_slack} more or fewer)")
         ratio = x["gmres"] / ref["gmres"] - 1
         if abs(ratio) > args.gmres:

@@ -68,9 +68,10 @@ namespace physics::contact::internal
   private:
     /// Output directory, mesh, DOFs, then the set-up steps below in order.
     void setup();
-    /// Setup: every boundary id the parameters name must exist in the mesh (on some rank).
-    /// The cells the mesh partition shares out evenly besides all cells (Balance contact surfaces).
+    /// Setup: the cells the mesh partition shares out evenly besides all cells (Balance contact
+    /// surfaces; empty when it is off).
     CellMarker<dim> contact_surface_cells() const;
+    /// Setup: every boundary id the parameters name must exist in the mesh (on some rank).
     void check_boundary_ids();
     /// Setup: the mortar contact surfaces, and the ghost DOFs they add to the relevant ones.
     void setup_contact();
