@@ -81,6 +81,8 @@ def main():
     if ref is None or any(v is None for v in runs.values()):
         return 1
     failures = []
+    # What every run is compared with: the first rank count's run, without the variant if any.
+    reference = f"{first} ranks" + (" without the variant" if args.variant else "")
     if args.variant:
         print(f"reference ({first} ranks, without {args.variant}): {len(ref['steps'])} steps, GMRES per Newton "
               f"step {ref['gmres']:.2f}, displacement l2 {ref['norms'][0]:.15g}, max {ref['norms'][1]:.15g}")
@@ -97,11 +99,11 @@ def main():
         if x is ref:
             continue
         if x["steps"] != ref["steps"]:
-            failures.append(f"{r} ranks: other converged steps/times than {first}")
+            failures.append(f"{r} ranks: other converged steps/times than {reference}")
         differ = [k for k in sorted(set(x["newton"]) | set(ref["newton"]))
                   if not same_newton_path(x["newton"].get(k), ref["newton"].get(k), args.newton_slack)]
         if differ:
-            failures.append(f"{r} ranks: Newton steps or active sets differ from {first} ranks in steps {differ[:5]}")
+            failures.append(f"{r} ranks: Newton steps or active sets differ from {reference} in steps {differ[:5]}")
         elif x["newton"] != ref["newton"]:
             slack = [k for k in sorted(x["newton"]) if x["newton"][k] != ref["newton"][k]]
             print(f"{r} ranks: other Newton paths to the same converged active sets in steps {slack[:5]} "
@@ -109,7 +111,7 @@ def main():
                   f"{[len(ref['newton'][k]) for k in slack[:5]]}; allowed: {args.newton_slack} more or fewer)")
         ratio = x["gmres"] / ref["gmres"] - 1
         if abs(ratio) > args.gmres:
-            failures.append(f"{r} ranks: GMRES per Newton step {ratio:+.1%} against {first} ranks (allowed {args.gmres:.0%})")
+            failures.append(f"{r} ranks: GMRES per Newton step {ratio:+.1%} against {reference} (allowed {args.gmres:.0%})")
         for name, a, b in zip(("l2", "max"), ref["norms"], x["norms"]):
             rel = abs(a - b) / max(abs(a), 1e-300)
             if rel > args.norms:
