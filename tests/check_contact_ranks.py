@@ -7,12 +7,13 @@ run_log.jsonl; with --newton-slack N a load step may take up to N Newton steps m
 its converged active set has the same size: GMRES solves to a relative 1e-8, so the iterates of
 two partitions differ at about 1e-6, and a node at the threshold of the semi-smooth Newton
 method's active-set decision can switch one Newton step later), its average GMRES iterations per
-Newton step is within --gmres (relative, default 10 %) of the first run's, and its final displacement norms (the app's "Displacement norms: l2 L,
-max M" line) agree to --norms (relative, default 1e-8). With --variant S/E=V (repeatable) the runs
-on every rank count add those settings and are compared with a run on the first rank count
-without them (e.g. a solver option that must not change the Newton path); --min-reused N also
-requires at least N Newton steps solved with a kept preconditioner ("preconditioner_reused"),
-each logged with zero set-up seconds. Prints the figures; exit status 0 if all hold, 1 otherwise.
+Newton step is within --gmres (relative, default 10 %) of the first run's, and its final
+displacement norms (the app's "Displacement norms: l2 L, max M" line) agree to --norms
+(relative, default 1e-8). With --variant S/E=V (repeatable) the runs on every rank count add
+those settings and are compared with a run on the first rank count without them (e.g. a solver
+option that must not change the Newton path); --min-reused N also requires at least N Newton
+steps solved with a kept preconditioner ("preconditioner_reused"), each logged with zero set-up
+seconds. Prints the figures; exit status 0 if all hold, 1 otherwise.
 
   check_contact_ranks.py --app build/apps/contact_blocks --mpiexec mpirun --prm apps/contact_rings_2d.prm
                          --out DIR [--ranks 1 2] [--gmres 0.1] [--norms 1e-8] [--newton-slack 0]

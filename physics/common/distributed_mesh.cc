@@ -93,29 +93,18 @@ namespace physics
             ++n_marked;
           }
 
-    std::vector<unsigned int> part(n_cells, 0);
-    if (n_parts > 1 && n_marked < n_parts)
-      {
-        dealii::GridTools::partition_triangulation(n_parts, tria, dealii::SparsityTools::Partitioner::metis);
-        for (const auto& cell : tria.active_cell_iterators())
-          part[cell->active_cell_index()] = cell->subdomain_id();
-      }
-    else if (n_parts > 1)
-      {
-        const std::vector<idx_t> metis_part = metis_parts_with_two_balances(tria, n_parts, is_marked);
-        for (const auto& cell : tria.active_cell_iterators())
-          {
-            part[cell->active_cell_index()] = metis_part[cell->active_cell_index()];
-            cell->set_subdomain_id(metis_part[cell->active_cell_index()]);
-          }
-      }
+    if (n_parts == 1 || n_marked < n_parts)
+      dealii::GridTools::partition_triangulation(n_parts, tria, dealii::SparsityTools::Partitioner::metis);
     else
-      for (const auto& cell : tria.active_cell_iterators())
-        cell->set_subdomain_id(0);
+      {
+        const std::vector<idx_t> part = metis_parts_with_two_balances(tria, n_parts, is_marked);
+        for (const auto& cell : tria.active_cell_iterators())
+          cell->set_subdomain_id(part[cell->active_cell_index()]);
+      }
 
     std::vector<unsigned int> marked_per_part(n_parts, 0);
-    for (unsigned int i = 0; i < n_cells; ++i)
-      marked_per_part[part[i]] += is_marked[i];
+    for (const auto& cell : tria.active_cell_iterators())
+      marked_per_part[cell->subdomain_id()] += is_marked[cell->active_cell_index()];
     return marked_per_part;
   }
 
