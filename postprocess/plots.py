@@ -119,6 +119,8 @@ def weak_scaling(rows, path, title):
     ax = axes[0]
     ax.plot(ranks, [r["gmres_average"] for r in rows], "o-", label="average")
     ax.plot(ranks, [r["gmres_max"] for r in rows], "v:", label="largest")
+    if all(r.get("gmres_average_accepted") is not None for r in rows):
+        ax.plot(ranks, [r["gmres_average_accepted"] for r in rows], "s--", label="average, accepted steps")
     ax.set_ylabel("GMRES iterations per Newton step")
     ax.set_ylim(bottom=0)
     ax.set_title("iterations")

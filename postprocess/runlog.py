@@ -136,6 +136,10 @@ class RunLog:
             "dofs": s[0].get("global_size") if s else None,
             "load_steps": len(self.steps()), "newton_steps": len(s),
             "gmres_average": mean(its), "gmres_max": max(its) if its else None,
+            # Over the accepted tries only: a cut step's tries (Newton from a bad active set) can
+            # take many times the iterations of the converged ones, and where a step is cut
+            # depends on the problem's size, so this is the figure that compares sizes.
+            "gmres_average_accepted": mean([i for step in self.steps() for i in step["gmres"]]),
             "gmres_all_converged": all(l.get("linear_converged") for l in s),
             "converged": bool(last.get("converged")) and not any(e["event"] == "run_stopped" for e in self.events),
             "step_cuts": sum(1 for e in self.events if e["event"] == "step_cut"),

@@ -5,7 +5,13 @@ checked against `global_size` in the run logs by the tests).
 A weak-scaling study keeps the DOFs per rank constant: for p ranks the class picks the size
 whose DOFs are nearest to p times the target (`size_for`).
 """
+import functools
 import math
+import os
+import subprocess
+import tempfile
+
+SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def nearest(x):
@@ -123,7 +129,88 @@ class FsiTube:
         return f"refine {cls.refine}, length {cls.length(n):g} cm: {n} cells along"
 
 
-CLASSES = {c.name: c for c in (Contact3D, BeamSolid, FsiTube)}
+class Rings2D:
+    """The collapsing rings (apps/contact_rings_2d.prm, meshes/rings_2d.geo) made wider at a fixed
+    height: size n = columns of rings (Gmsh variable nx) under 4 rows (ny = 4), refinement 1 (the
+    seeds' ~110 nodes per ring), so every rank's share of the pack is a strip of the same columns
+    with the same interfaces to its neighbours. The first 10 of the prm's 80 time steps (the plate
+    pushed down 12 mm at the prm's 1.2 mm per step: it meets the top row in step 2 and by step 10
+    every gap of a column has closed), every body against every other (automatic pairs).
+    DOFs: 2 per node plus 2 multipliers per slave node; the slave bodies are all but the one of
+    highest material id (the container), their slave nodes those on a contact surface (boundary
+    ids 1, 2). The container and the plate are meshed unstructured, so the node counts are gmsh's
+    (the mesh is made here with the app's gmsh options and counted)."""
+    name = "rings"
+    app = "contact_blocks"
+    prm = "apps/contact_rings_2d.prm"
+    mesh = "meshes/rings_2d.geo"
+    smallest = 1
+    rows = 4
+    time_steps = 10
+    push_per_step = 96.0 / 80  # the prm's Loading/Displacement over its Load steps
+    description = "collapsing rings, multi-body mortar contact (seed 000), widened"
+
+    @staticmethod
+    @functools.lru_cache(maxsize=None)
+    def dofs(n):
+        nodes, slave = Rings2D.mesh_counts(n)
+        return {"total": 2 * nodes + 2 * slave, "displacement": 2 * nodes, "multipliers": 2 * slave}
+
+    @classmethod
+    def guess(cls, total):
+        """The size whose DOFs are nearest to `total` if they grew by the same amount per column
+        as from one column to two (the container's and plate's meshes make them nearly so)."""
+        one, two = cls.dofs(1)["total"], cls.dofs(2)["total"]
+        return 1 + int(round((total - one) / (two - one)))
+
+    @classmethod
+    def mesh_counts(cls, n):
+        """(nodes, slave nodes) of the mesh gmsh makes for n columns."""
+        with tempfile.TemporaryDirectory() as work:
+            msh = os.path.join(work, "mesh.msh")
+            cmd = ["gmsh", "-2", "-setnumber", "refine", "1", "-setnumber", "nx", str(n), "-setnumber", "ny",
+                   str(cls.rows), "-format", "msh22", os.path.join(SOURCE, cls.mesh), "-o", msh]
+            try:
+                done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            except FileNotFoundError:
+                raise RuntimeError("gmsh: not found (the rings class counts its DOFs on gmsh's mesh)")
+            if done.returncode != 0 or not os.path.exists(msh):
+                raise RuntimeError(f"gmsh could not mesh {cls.mesh} with nx = {n}: {done.stdout[-500:]}")
+            return cls.count_nodes(msh)
+
+    @staticmethod
+    def count_nodes(msh):
+        """Nodes of a Gmsh 2.2 mesh and the nodes on a contact line (physical 1 or 2) of a cell
+        of a slave body (physical surface below the highest)."""
+        with open(msh) as f:
+            lines = f.read().split("\n")
+        n_nodes = int(lines[lines.index("$Nodes") + 1])
+        start = lines.index("$Elements") + 2
+        contact, body_nodes = set(), {}
+        for line in lines[start:lines.index("$EndElements")]:
+            v = line.split()
+            kind, n_tags = int(v[1]), int(v[2])
+            physical, nodes = int(v[3]), v[3 + n_tags:]
+            if kind == 1 and physical in (1, 2):
+                contact.update(nodes)
+            elif kind in (2, 3):
+                body_nodes.setdefault(physical, set()).update(nodes)
+        master = max(body_nodes)
+        slave = set().union(*(s for b, s in body_nodes.items() if b != master)) & contact
+        return n_nodes, len(slave)
+
+    @classmethod
+    def settings(cls, n, data_dir):
+        return {"Mesh/Mesh file": f"{data_dir}/{cls.mesh}", "Mesh/Gmsh refinement": "1",
+                "Mesh/Gmsh variables": f"nx={n}, ny={cls.rows}", "Loading/Load steps": str(cls.time_steps),
+                "Loading/Displacement": f"0, {-cls.push_per_step * cls.time_steps:g}"}
+
+    @classmethod
+    def mesh_text(cls, n):
+        return f"{n} x {cls.rows} rings, refine 1"
+
+
+CLASSES = {c.name: c for c in (Contact3D, BeamSolid, FsiTube, Rings2D)}
 
 # The seeds' largest weak-scaling configurations (BENCHMARKS.md): total DOFs and ranks. The
 # contact study names no rank count (at the seeds' ~50 k DOFs per rank it is 158 ranks); the
@@ -136,16 +223,27 @@ SEED_CONFIGURATIONS = [
 
 
 def size_for(cls, total, limit=100000):
-    """The smallest size n whose DOFs are nearest to `total` (DOFs grow with n)."""
-    best, n = None, cls.smallest
-    while n < limit:
-        d = cls.dofs(n)["total"]
-        if best is None or abs(d - total) < abs(cls.dofs(best)["total"] - total):
-            best = n
-        if d > total:
-            break
-        n += 1
-    return best
+    """The smallest size n whose DOFs are nearest to `total`. DOFs grow strictly with n, so the
+    sizes around `total` are bracketed by steps that double, from the class's guess where it has
+    one (the rings' DOF counts are meshes: a few, near the answer), then bisected; the answer is
+    the last size at or below `total` or the first above."""
+    def dofs(n):
+        return cls.dofs(n)["total"]
+    guess = cls.guess(total) if hasattr(cls, "guess") else cls.smallest
+    low = high = min(max(guess, cls.smallest), limit)
+    step = 1
+    if dofs(low) <= total:  # walk up to the first size above total
+        while dofs(high) <= total and high < limit:
+            low, high, step = high, min(high + step, limit), 2 * step
+    else:  # walk down to the last size at or below total
+        while low > cls.smallest and dofs(low) > total:
+            high, low, step = low, max(low - step, cls.smallest), 2 * step
+    while high - low > 1:  # dofs(low) <= total < dofs(high), or low is the smallest size
+        mid = (low + high) // 2
+        low, high = (mid, high) if dofs(mid) <= total else (low, mid)
+    if dofs(low) > total or low == high:
+        return low
+    return low if abs(dofs(low) - total) <= abs(dofs(high) - total) else high
 
 
 def plan(cls, dofs_per_rank, ranks):

@@ -12,15 +12,18 @@
   weak_scaling.py seeds   --out DIR   SLURM scripts of the seeds' largest configurations and the
                           DOFs per rank they imply
 
-CLASS: contact3d (3D two-block contact benchmark, meshes/two_blocks_3d_weak.geo), beam_solid
-(fibres in a block, apps/beam_solid_block.prm) or fsi (the pressure-wave tube made longer at a
-fixed cross-section, meshes/fsi_tube_3d.geo with Mesh/Gmsh variables = length=L; 3 time steps). Every run has its own directory DIR/npR with the
-app's run_log.jsonl and job.json (ranks, exit status, wall seconds, oversubscribed). Extra
-settings for every run: --set "Section/Entry=value" (e.g. "Linear solver/Preset=..."). Exit
-status: 0, 1 if a run failed, 2 for bad input (one line).
+CLASS: contact3d (3D two-block contact benchmark, meshes/two_blocks_3d_weak.geo), rings (the
+collapsing rings made wider: n columns of 4 rings, meshes/rings_2d.geo with Mesh/Gmsh variables =
+nx=n, ny=4; the first 10 time steps; DOFs counted on gmsh's mesh), beam_solid (fibres in a block,
+apps/beam_solid_block.prm) or fsi (the pressure-wave tube made longer at a fixed cross-section,
+meshes/fsi_tube_3d.geo with Mesh/Gmsh variables = length=L; 3 time steps). Every run has its own
+directory DIR/npR with the app's run_log.jsonl and job.json (ranks, exit status, wall seconds,
+oversubscribed). Extra settings for every run: --set "Section/Entry=value" (e.g. "Linear
+solver/Preset=..."). Exit status: 0, 1 if a run failed, 2 for bad input (one line).
 
-Figures per run: DOFs, ranks, Newton steps, average/largest GMRES per Newton step, setup, solve
-and assembly seconds (sums over the Newton steps), wall seconds, operator complexity (largest),
+Figures per run: DOFs, ranks, Newton steps, step cuts, average/largest GMRES per Newton step
+(and the average over the accepted steps' Newton steps only, which compares sizes whose steps
+were cut at different places), setup, solve and assembly seconds (sums over the Newton steps), wall seconds, operator complexity (largest),
 peak memory per rank (the logs give the largest over the ranks only), parallel efficiency
 T(1)/T(p) of the wall time and of setup + solve.
 """
@@ -43,7 +46,7 @@ from runlog import InputError, RunLog  # noqa: E402
 SOURCE = os.path.dirname(HERE)
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 FIELDS = ["ranks", "oversubscribed", "dofs", "dofs_per_rank", "mesh", "load_steps", "newton_steps",
-          "gmres_average", "gmres_max", "setup_seconds", "solve_seconds", "assembly_seconds", "wall_seconds",
+          "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds", "assembly_seconds", "wall_seconds",
           "operator_complexity", "peak_memory_mb_max", "peak_memory_mb_mean", "efficiency_wall",
           "efficiency_solve", "converged", "exit_status", "run"]
 # What a study needs per run and where it comes from when the log lacks it.
@@ -151,8 +154,8 @@ def collect(directory):
             row.update({"exit_status": job.get("exit_status"), "wall_seconds": job.get("wall_seconds")})
         if os.path.exists(os.path.join(run_dir, "run_log.jsonl")):
             s = RunLog(run_dir).summary()
-            row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "gmres_average", "gmres_max",
-                                          "setup_seconds", "solve_seconds", "assembly_seconds",
+            row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "step_cuts", "gmres_average",
+                                          "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds", "assembly_seconds",
                                           "operator_complexity", "peak_memory_mb_max", "peak_memory_mb_mean",
                                           "converged")})
             row["preset"] = s["preset"]
@@ -203,8 +206,10 @@ def markdown(result, info):
                      "their times are not scaling figures.")
     lines += ["", report.table(rows, report.SCALING_COLUMNS), ""]
     g, m = growth(done, "gmres_average"), growth(done, "peak_memory_mb_max")
+    a = growth(done, "gmres_average_accepted")
     if g:
         lines.append(f"From {done[0]['ranks']} to {done[-1]['ranks']} ranks: GMRES per Newton step x {g:.2f}"
+                     + (f" (accepted steps only: x {a:.2f})" if a else "")
                      + (f", largest peak memory per rank x {m:.2f}." if m else "."))
     if result["missing"]:
         lines.append(f"Not known for every run: {', '.join(result['missing'])}.")

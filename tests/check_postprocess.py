@@ -158,10 +158,14 @@ def weak(args):
         check(r["dofs"] == cls.dofs(size)["total"],
               f"{collection}: np{r['ranks']} has {r['dofs']} DOFs, the class's model says {cls.dofs(size)['total']}")
         check(r["exit_status"] == 0 and r["converged"], f"{collection}: np{r['ranks']} did not converge")
-        for key in ("newton_steps", "gmres_average", "gmres_max", "setup_seconds", "solve_seconds",
+        for key in ("newton_steps", "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
                     "assembly_seconds", "wall_seconds", "peak_memory_mb_max", "peak_memory_mb_mean",
                     "operator_complexity"):
             check(r.get(key) is not None, f"{collection}: np{r['ranks']} lacks {key}")
+        if r["step_cuts"] == 0:
+            check(abs(r["gmres_average_accepted"] - r["gmres_average"]) < 1e-9,
+                  f"{collection}: np{r['ranks']} has no cut step but accepted-steps GMRES {r['gmres_average_accepted']}"
+                  f" != {r['gmres_average']}")
         check(r["peak_memory_mb_mean"] <= r["peak_memory_mb_max"] + 1e-9,
               f"{collection}: np{r['ranks']} mean peak memory above the largest")
         check(r["oversubscribed"] == (r["ranks"] > 1), f"{collection}: np{r['ranks']} oversubscribed flag wrong")
