@@ -15,7 +15,7 @@
 CLASS: contact3d (3D two-block contact benchmark, meshes/two_blocks_3d_weak.geo), rings (the
 collapsing rings made wider: n columns of 4 rings, meshes/rings_2d.geo with Mesh/Gmsh variables =
 nx=n, ny=4; the first 10 time steps; DOFs counted on gmsh's mesh), beam_solid (fibres in a block,
-apps/beam_solid_block.prm) or fsi (the pressure-wave tube made longer at a fixed cross-section,
+apps/beam_solid_block.prm, with Newton's line search) or fsi (the pressure-wave tube made longer at a fixed cross-section,
 meshes/fsi_tube_3d.geo with Mesh/Gmsh variables = length=L; 3 time steps). Every run has its own
 directory DIR/npR with the app's run_log.jsonl and job.json (ranks, exit status, wall seconds,
 oversubscribed). Extra settings for every run: --set "Section/Entry=value" (e.g. "Linear
