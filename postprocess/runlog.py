@@ -10,7 +10,7 @@ The log (physics/common/newton_solver.cc, step_driver.cc, solver_parameters.cc) 
   `peak_memory_mb` (the largest VmHWM over the ranks);
 - event lines (`"event"`: `step_cut`, `step_grown`, `run_stopped`, and `timers` at the end, with
   `<section>_seconds` and `peak_memory_mb_max` / `peak_memory_mb_mean`, the peak resident memory
-  per rank, largest and mean over the ranks);
+  per rank, largest and mean over the ranks, and `peak_memory_mb_max_rank`, the rank of the largest);
 - energy lines of dynamic runs (`time_step`, `kinetic_energy`, `strain_energy`, `total_energy`).
 
 Bad input (a missing or unreadable log) raises InputError with one line naming the file.
@@ -150,6 +150,7 @@ class RunLog:
             # ranks); older logs only the largest, after each solve.
             "peak_memory_mb_max": (self.timers or {}).get("peak_memory_mb_max", largest("peak_memory_mb")),
             "peak_memory_mb_mean": (self.timers or {}).get("peak_memory_mb_mean"),
+            "peak_memory_max_rank": (self.timers or {}).get("peak_memory_mb_max_rank"),
             "active_final": last.get("active"),
             "timers": {k: v for k, v in (self.timers or {}).items() if k != "event"},
         }

@@ -14,6 +14,10 @@ import tempfile
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+class MeshingError(RuntimeError):
+    """gmsh is missing or could not mesh a size whose DOFs a class counts on the mesh."""
+
+
 def nearest(x):
     """Round half up, as the .geo files do (Floor(x + 0.5)); Python's round() rounds to even."""
     return int(math.floor(x + 0.5))
@@ -177,9 +181,11 @@ class Rings2D:
             try:
                 done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
             except FileNotFoundError:
-                raise RuntimeError("gmsh: not found (the rings class counts its DOFs on gmsh's mesh)")
+                raise MeshingError("gmsh: not found (the rings class counts its DOFs on gmsh's mesh)")
             if done.returncode != 0 or not os.path.exists(msh):
-                raise RuntimeError(f"gmsh could not mesh {cls.mesh} with nx = {n}: {done.stdout[-500:]}")
+                said = done.stdout.strip().splitlines()
+                why = ([l for l in said if l.startswith("Error")] or said or ["no output"])[0].strip()
+                raise MeshingError(f"gmsh could not mesh {cls.mesh} with nx = {n} ({why})")
             return cls.count_nodes(msh)
 
     @staticmethod

@@ -47,7 +47,7 @@ SOURCE = os.path.dirname(HERE)
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 FIELDS = ["ranks", "oversubscribed", "dofs", "dofs_per_rank", "mesh", "load_steps", "newton_steps",
           "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds", "assembly_seconds", "wall_seconds",
-          "operator_complexity", "peak_memory_mb_max", "peak_memory_mb_mean", "efficiency_wall",
+          "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank", "peak_memory_mb_mean", "efficiency_wall",
           "efficiency_solve", "converged", "exit_status", "run"]
 # What a study needs per run and where it comes from when the log lacks it.
 NOT_IN_LOGS = {"ranks": "the study plan (study.json)", "wall_seconds": "job.json (measured by the launcher)"}
@@ -156,7 +156,8 @@ def collect(directory):
             s = RunLog(run_dir).summary()
             row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "step_cuts", "gmres_average",
                                           "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds", "assembly_seconds",
-                                          "operator_complexity", "peak_memory_mb_max", "peak_memory_mb_mean",
+                                          "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank",
+                                          "peak_memory_mb_mean",
                                           "converged")})
             row["preset"] = s["preset"]
             if row["dofs"] is not None:
@@ -343,6 +344,9 @@ def main():
     except InputError as e:
         print(f"weak_scaling: {e}", file=sys.stderr)
         return 2
+    except study_classes.MeshingError as e:
+        print(f"weak_scaling: {e}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

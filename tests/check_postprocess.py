@@ -166,6 +166,8 @@ def weak(args):
             check(abs(r["gmres_average_accepted"] - r["gmres_average"]) < 1e-9,
                   f"{collection}: np{r['ranks']} has no cut step but accepted-steps GMRES {r['gmres_average_accepted']}"
                   f" != {r['gmres_average']}")
+        check(r["peak_memory_max_rank"] in range(r["ranks"]),
+              f"{collection}: np{r['ranks']}: the largest peak memory on rank {r['peak_memory_max_rank']}")
         check(r["peak_memory_mb_mean"] <= r["peak_memory_mb_max"] + 1e-9,
               f"{collection}: np{r['ranks']} mean peak memory above the largest")
         check(r["oversubscribed"] == (r["ranks"] > 1), f"{collection}: np{r['ranks']} oversubscribed flag wrong")
@@ -265,6 +267,18 @@ def cli(args):
         lines = proc.stderr.strip().splitlines()
         check(len(lines) == 1 and "nonexistent" in proc.stderr and "Traceback" not in proc.stderr,
               f"{name}: stderr is not one line naming the input: {proc.stderr!r}")
+    # The rings count their DOFs on gmsh's mesh: a gmsh that fails (here one that only exits 1)
+    # is one line naming the mesh, exit 1.
+    fake = os.path.join(args.work, "failing_gmsh")
+    os.makedirs(fake, exist_ok=True)
+    with open(os.path.join(fake, "gmsh"), "w") as f:
+        f.write("#!/bin/sh\necho 'Error   : no mesh today'\nexit 1\n")
+    os.chmod(os.path.join(fake, "gmsh"), 0o755)
+    cmd = [sys.executable, os.path.join(POST, "weak_scaling.py"), "plan", "rings", "--dofs-per-rank", "5000"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, PATH=fake + os.pathsep + os.environ["PATH"]))
+    lines = proc.stderr.strip().splitlines()
+    check(proc.returncode == 1 and len(lines) == 1 and "rings_2d.geo" in lines[0] and "no mesh today" in lines[0],
+          f"weak_scaling.py plan rings with a failing gmsh: exit {proc.returncode}, stderr {proc.stderr!r}")
 
 
 def aggregates(args):

@@ -73,17 +73,17 @@ namespace physics
         text << (first ? " " : ", ") << section << " " << std::fixed << std::setprecision(2) << largest;
         first = false;
       }
-    // Peak resident memory per rank (the figure of weak-scaling studies): the largest rank and
-    // the mean over the ranks.
+    // Peak resident memory per rank (the figure of weak-scaling studies): the largest rank, which
+    // rank that is (a rank far above the mean holds something the others do not), and the mean.
     dealii::Utilities::System::MemoryStats memory;
     dealii::Utilities::System::get_memory_stats(memory); // VmHWM: peak resident set, kB
-    const double peak = memory.VmHWM / 1024.0;
-    const double mean = dealii::Utilities::MPI::sum(peak, comm) / dealii::Utilities::MPI::n_mpi_processes(comm);
-    const double most = dealii::Utilities::MPI::max(peak, comm);
-    line.add("peak_memory_mb_max", most).add("peak_memory_mb_mean", mean);
+    const auto peak = dealii::Utilities::MPI::min_max_avg(memory.VmHWM / 1024.0, comm);
+    line.add("peak_memory_mb_max", peak.max)
+        .add("peak_memory_mb_max_rank", static_cast<long long>(peak.max_index))
+        .add("peak_memory_mb_mean", peak.avg);
     log.write(line);
     if (root)
-      console << text.str() << "\nPeak memory per rank: max " << std::fixed << std::setprecision(1) << most
-              << " MB, mean " << mean << " MB\n";
+      console << text.str() << "\nPeak memory per rank: max " << std::fixed << std::setprecision(1)
+              << peak.max << " MB (rank " << peak.max_index << "), mean " << peak.avg << " MB\n";
   }
 } // namespace physics
