@@ -15,17 +15,18 @@
 CLASS: contact3d (3D two-block contact benchmark, meshes/two_blocks_3d_weak.geo), rings (the
 collapsing rings made wider: n columns of 4 rings, meshes/rings_2d.geo with Mesh/Gmsh variables =
 nx=n, ny=4; the first 10 time steps; DOFs counted on gmsh's mesh), beam_solid (fibres in a block,
-apps/beam_solid_block.prm, with Newton's line search) or fsi (the pressure-wave tube made longer at a fixed cross-section,
-meshes/fsi_tube_3d.geo with Mesh/Gmsh variables = length=L; 3 time steps). Every run has its own
-directory DIR/npR with the app's run_log.jsonl and job.json (ranks, exit status, wall seconds,
-oversubscribed). Extra settings for every run: --set "Section/Entry=value" (e.g. "Linear
-solver/Preset=..."). Exit status: 0, 1 if a run failed, 2 for bad input (one line).
+apps/beam_solid_block.prm, with Newton's line search) or fsi (the pressure-wave tube made longer at
+a fixed cross-section, meshes/fsi_tube_3d.geo with Mesh/Gmsh variables = length=L; 3 time steps).
+Every run has its own directory DIR/npR with the app's run_log.jsonl and job.json (ranks, exit
+status, wall seconds, oversubscribed). Extra settings for every run: --set "Section/Entry=value"
+(e.g. "Linear solver/Preset=..."). Exit status: 0, 1 if a run failed (or gmsh could not mesh a
+rings size; one line), 2 for bad input (one line).
 
-Figures per run: DOFs, ranks, Newton steps, step cuts, average/largest GMRES per Newton step
-(and the average over the accepted steps' Newton steps only, which compares sizes whose steps
-were cut at different places), setup, solve and assembly seconds (sums over the Newton steps), wall seconds, operator complexity (largest),
-peak memory per rank (the logs give the largest over the ranks only), parallel efficiency
-T(1)/T(p) of the wall time and of setup + solve.
+Figures per run: DOFs, ranks, Newton steps, step cuts, average/largest GMRES per Newton step (and
+the average over the accepted steps' Newton steps only, which compares sizes whose steps were cut at
+different places), setup, solve and assembly seconds (sums over the Newton steps), wall seconds,
+operator complexity (largest), peak memory per rank (the largest, the rank holding it, the mean),
+parallel efficiency T(1)/T(p) of the wall time and of setup + solve.
 """
 import argparse
 import csv
@@ -46,9 +47,9 @@ from runlog import InputError, RunLog  # noqa: E402
 SOURCE = os.path.dirname(HERE)
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 FIELDS = ["ranks", "oversubscribed", "dofs", "dofs_per_rank", "mesh", "load_steps", "newton_steps",
-          "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds", "assembly_seconds", "wall_seconds",
-          "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank", "peak_memory_mb_mean", "efficiency_wall",
-          "efficiency_solve", "converged", "exit_status", "run"]
+          "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
+          "assembly_seconds", "wall_seconds", "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank",
+          "peak_memory_mb_mean", "efficiency_wall", "efficiency_solve", "converged", "exit_status", "run"]
 # What a study needs per run and where it comes from when the log lacks it.
 NOT_IN_LOGS = {"ranks": "the study plan (study.json)", "wall_seconds": "job.json (measured by the launcher)"}
 
@@ -155,10 +156,9 @@ def collect(directory):
         if os.path.exists(os.path.join(run_dir, "run_log.jsonl")):
             s = RunLog(run_dir).summary()
             row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "step_cuts", "gmres_average",
-                                          "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds", "assembly_seconds",
-                                          "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank",
-                                          "peak_memory_mb_mean",
-                                          "converged")})
+                                          "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
+                                          "assembly_seconds", "operator_complexity", "peak_memory_mb_max",
+                                          "peak_memory_max_rank", "peak_memory_mb_mean", "converged")})
             row["preset"] = s["preset"]
             if row["dofs"] is not None:
                 row["dofs_per_rank"] = row["dofs"] / e["ranks"]

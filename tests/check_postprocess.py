@@ -158,8 +158,8 @@ def weak(args):
         check(r["dofs"] == cls.dofs(size)["total"],
               f"{collection}: np{r['ranks']} has {r['dofs']} DOFs, the class's model says {cls.dofs(size)['total']}")
         check(r["exit_status"] == 0 and r["converged"], f"{collection}: np{r['ranks']} did not converge")
-        for key in ("newton_steps", "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
-                    "assembly_seconds", "wall_seconds", "peak_memory_mb_max", "peak_memory_mb_mean",
+        for key in ("newton_steps", "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted",
+                    "setup_seconds", "solve_seconds", "assembly_seconds", "wall_seconds", "peak_memory_mb_max", "peak_memory_mb_mean",
                     "operator_complexity"):
             check(r.get(key) is not None, f"{collection}: np{r['ranks']} lacks {key}")
         if r["step_cuts"] == 0:
@@ -275,7 +275,8 @@ def cli(args):
         f.write("#!/bin/sh\necho 'Error   : no mesh today'\nexit 1\n")
     os.chmod(os.path.join(fake, "gmsh"), 0o755)
     cmd = [sys.executable, os.path.join(POST, "weak_scaling.py"), "plan", "rings", "--dofs-per-rank", "5000"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, PATH=fake + os.pathsep + os.environ["PATH"]))
+    env = dict(os.environ, PATH=fake + os.pathsep + os.environ["PATH"])
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
     lines = proc.stderr.strip().splitlines()
     check(proc.returncode == 1 and len(lines) == 1 and "rings_2d.geo" in lines[0] and "no mesh today" in lines[0],
           f"weak_scaling.py plan rings with a failing gmsh: exit {proc.returncode}, stderr {proc.stderr!r}")
