@@ -244,7 +244,9 @@ int main(int argc, char** argv)
         }
 
       // 3. Set up the preconditioner, 4. solve, 5. report.
-      multigrid::BlockPreconditioner preconditioner(system, preset, !o.aggregates.empty());
+      multigrid::SetupOptions setup;
+      setup.keep_aggregates = !o.aggregates.empty();
+      multigrid::BlockPreconditioner preconditioner(system, preset, setup);
       if (!o.aggregates.empty())
         export_aggregates(system, preconditioner, o.aggregates, root);
       auto x = Xpetra::MultiVectorFactory<multigrid::SC, multigrid::LO, multigrid::GO, multigrid::NO>::Build(

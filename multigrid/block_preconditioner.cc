@@ -111,18 +111,46 @@ namespace multigrid
         }
     }
 
+    /// MueLu's interpreter of a factory-style list that can also mark every coarse level's
+    /// transfers to be kept. A kept datum survives Hierarchy::Clear(), and a factory whose
+    /// output is available is neither asked for its inputs nor built again: Hierarchy::SetupRe()
+    /// on a new fine matrix then recomputes R A P and the smoothers with the old P and R and
+    /// skips the aggregation and the prolongator smoothing. (MueLu's "reuse: type" sets such
+    /// flags for easy-style lists only; the keep list of HierarchyManager is protected, hence
+    /// the derived class.)
+    using ListInterpreter = MueLu::ParameterListInterpreter<SC, LO, GO, NO>;
+
+    class Interpreter : public ListInterpreter
+    {
+    public:
+      using ListInterpreter::ListInterpreter;
+
+      void keep_transfers()
+      {
+        // Level l's P and R come from level l's factory manager (Hierarchy::Setup builds the
+        // coarse level's transfers with the coarse level's manager).
+        for (int level = 1; level < this->numDesiredLevel_; ++level)
+          {
+            const auto manager = this->GetFactoryManager(level);
+            for (const char* name : {"P", "R"})
+              this->keep_[level].emplace_back(name, manager->GetFactory(name).get());
+          }
+      }
+    };
+
     /// A blocked MueLu hierarchy from a factory-style list (Factories + Hierarchy) on the
     /// system's n x n operator; block k's near-nullspace is level 0's "Nullspace<k+1>".
     RCP<Hierarchy> build_blocked_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu,
-                                           bool keep_aggregates)
+                                           const SetupOptions& options)
     {
       auto comm = system.comm();
-      Teuchos::ParameterList                          list = muelu;
-      if (keep_aggregates)
+      Teuchos::ParameterList list = muelu;
+      if (options.keep_aggregates)
         record_aggregates(list);
-      MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, comm,
-                                                                  Teuchos::rcp(new ProjectFactoryFactory()));
-      RCP<Hierarchy>                                  H = interpreter.CreateHierarchy();
+      Interpreter interpreter(list, comm, Teuchos::rcp(new ProjectFactoryFactory()));
+      if (options.keep_transfers)
+        interpreter.keep_transfers();
+      RCP<Hierarchy> H = interpreter.CreateHierarchy();
       H->IsPreconditioner(true);
       auto L0 = H->GetLevel(0);
       L0->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
@@ -220,8 +248,10 @@ namespace multigrid
   }
 
   BlockPreconditioner::BlockPreconditioner(const BlockSystem& system, const Preset& preset,
-                                           bool keep_aggregates)
+                                           SetupOptions options)
+      : preset_(preset)
   {
+    const bool keep_aggregates = options.keep_aggregates;
     if (keep_aggregates && !builds_blocked_hierarchy(preset))
       throw InputError("preset '" + preset.name + "' (kind " + preset.kind +
                        ") builds no blocked AMG hierarchy whose aggregates could be exported");
@@ -296,8 +326,8 @@ namespace multigrid
         if (system.n_blocks() != 2)
           throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
                            std::to_string(system.n_blocks()) + " blocks");
-        auto H = with_preset_context(preset.name,
-                                     [&] { return build_blocked_hierarchy(system, muelu, keep_aggregates); });
+        auto H =
+            with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu, options); });
         fill_levels(info_, level_sizes(*H));
         fill_block_rows(info_, *H);
         hierarchy_ = H;
@@ -307,8 +337,8 @@ namespace multigrid
       {
         check_fully_coupled(preset, system);
         const auto muelu = fully_coupled_muelu_list(preset, system);
-        auto         H     = with_preset_context(preset.name,
-                                                 [&] { return build_blocked_hierarchy(system, muelu, keep_aggregates); });
+        auto       H =
+            with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu, options); });
         const double growth =
             with_preset_context(preset.name, [&] { return check_level_smoother(*H, system, preset); });
         fill_levels(info_, level_sizes(*H));
@@ -332,6 +362,48 @@ namespace multigrid
     if (keep_aggregates && !hierarchy_.is_null())
       aggregates_ =
           with_preset_context(preset.name, [&] { return recorded_aggregates(*hierarchy_, system); });
+    transfers_kept_ = options.keep_transfers && builds_blocked_hierarchy(preset);
+    if (transfers_kept_)
+      for (std::size_t k = 0; k < system.n_blocks(); ++k)
+        block_maps_.push_back(system.blocked_matrix()->getRangeMap(k));
+  }
+
+  bool BlockPreconditioner::refresh(const BlockSystem& system)
+  {
+    if (!transfers_kept_ || system.n_blocks() != block_maps_.size())
+      return false;
+    // The kept P of level 1 maps onto the old fine level's rows: a new matrix must have the same
+    // row distribution in every block (isSameAs is collective, every rank asks).
+    for (std::size_t k = 0; k < block_maps_.size(); ++k)
+      if (!system.blocked_matrix()->getRangeMap(k)->isSameAs(*block_maps_[k]))
+        return false;
+    Teuchos::Time timer("refresh");
+    timer.start(true);
+    with_preset_context(preset_.name, [&] {
+      hierarchy_->GetLevel(0)->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
+      // The coarsest level still holds requests that the set-up declared for a next level it
+      // did not build (MueLu's CoarseMap -> Nullspace chain, the segregation labels' request of
+      // the tentative P), and Level::Clear() in SetupRe refuses data with open requests. On the
+      // coarse levels everything but the kept transfers goes (ExpertClear keeps only data
+      // flagged Keep); level 0 holds the user's data and has no open requests.
+      for (int l = 1; l < hierarchy_->GetNumLevels(); ++l)
+        hierarchy_->GetLevel(l)->ExpertClear();
+      hierarchy_->SetupRe();
+    });
+    info_.levels.clear();
+    fill_levels(info_, level_sizes(*hierarchy_));
+    fill_block_rows(info_, *hierarchy_);
+    if (preset_.kind == "fully-coupled-amg")
+      {
+        // The level smoother's check (fully_coupled_amg.h) holds for the new matrix too.
+        const double growth = with_preset_context(
+            preset_.name, [&] { return check_level_smoother(*hierarchy_, system, preset_); });
+        info_.notes.back() = "level smoother: ||A e|| x " + std::to_string(growth) +
+                             " in 5 applications (fine level, from a random e)";
+      }
+    info_.setup_seconds    = timer.stop();
+    info_.transfers_reused = true;
+    return true;
   }
 
   BlockPreconditioner::~BlockPreconditioner() = default;
@@ -342,6 +414,18 @@ namespace multigrid
       throw InputError("preset '" + info_.preset + "' has no prolongator below level " +
                        std::to_string(level));
     return hierarchy_->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
+  }
+
+  RCP<const BlockedCrsMatrix> BlockPreconditioner::coarse_operator(int level) const
+  {
+    RCP<const BlockedCrsMatrix> A;
+    if (!hierarchy_.is_null() && level >= 1 && level < hierarchy_->GetNumLevels())
+      A = Teuchos::rcp_dynamic_cast<const BlockedCrsMatrix>(
+          hierarchy_->GetLevel(level)->Get<RCP<Matrix>>("A"));
+    if (A.is_null())
+      throw InputError("preset '" + info_.preset + "' has no blocked operator on level " +
+                       std::to_string(level));
+    return A;
   }
 
   RCP<const Matrix> BlockPreconditioner::prolongator_block(int level, int block) const

@@ -37,21 +37,40 @@ namespace multigrid
     double                   operator_complexity = 1.0;
     std::string              coarse_solver;
     std::vector<std::string> notes; ///< e.g. the inner solvers of CheapSIMPLE
+    /// Set up by BlockPreconditioner::refresh() with the transfers of an earlier matrix.
+    bool transfers_reused = false;
   };
 
   /// Whether the preset builds a blocked MueLu hierarchy (kinds saddle-point-amg, muelu,
   /// fully-coupled-amg): the presets whose aggregates can be kept and exported.
   bool builds_blocked_hierarchy(const Preset& preset);
 
+  /// What a BlockPreconditioner keeps beyond what applying it needs.
+  struct SetupOptions
+  {
+    /// The aggregates of every field and level, for aggregates() (blocked MueLu hierarchies
+    /// only: InputError for other kinds).
+    bool keep_aggregates = false;
+    /// Every coarse level's transfers P and R, for refresh() (blocked MueLu hierarchies; other
+    /// kinds ignore it, and their refresh() returns false).
+    bool keep_transfers = false;
+  };
+
   class BlockPreconditioner
   {
   public:
     /// Builds (sets up) the preconditioner. Throws InputError if the preset does not fit the
-    /// system (e.g. a saddle-point preset on a system without interface data). With
-    /// `keep_aggregates`, the aggregates of every field and level are kept for aggregates()
-    /// (blocked MueLu hierarchies only: InputError for other kinds).
-    BlockPreconditioner(const BlockSystem& system, const Preset& preset, bool keep_aggregates = false);
+    /// system (e.g. a saddle-point preset on a system without interface data).
+    BlockPreconditioner(const BlockSystem& system, const Preset& preset, SetupOptions options = {});
     ~BlockPreconditioner();
+
+    /// Sets the hierarchy up again for `system`'s matrix with the transfers kept from the first
+    /// set-up: the coarse operators R A P, the level smoothers (with their Schur complements) and
+    /// the coarse solver are recomputed, the aggregates and prolongators are not (MueLu's
+    /// Hierarchy::SetupRe). Returns false, changing nothing, where that is not possible: a
+    /// preconditioner built without keep_transfers or of another kind, or a system whose block
+    /// maps differ from those it was built for. Throws like the constructor if the set-up fails.
+    bool refresh(const BlockSystem& system);
 
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op() const { return op_; }
 
@@ -61,6 +80,9 @@ namespace multigrid
     /// The whole prolongator from level `level` + 1 to `level` (a BlockedCrsMatrix for blocked
     /// hierarchies). Throws InputError like prolongator_block.
     RCP<const Matrix> prolongator(int level) const;
+    /// The operator of coarse level `level` (>= 1) of a blocked hierarchy. Throws InputError for
+    /// other kinds or levels.
+    RCP<const BlockedCrsMatrix> coarse_operator(int level) const;
     const PreconditionerInfo& info() const { return info_; }
     /// Every field's aggregates per coarse level (empty unless built with keep_aggregates).
     const std::vector<FieldAggregates>& aggregates() const { return aggregates_; }
@@ -68,6 +90,9 @@ namespace multigrid
   private:
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> hierarchy_;
+    Preset                                preset_;
+    bool                                  transfers_kept_ = false;
+    std::vector<RCP<const Map>>           block_maps_; ///< of the system the transfers were built for
     PreconditionerInfo                    info_;
     std::vector<FieldAggregates>          aggregates_;
   };

@@ -13,7 +13,9 @@ displacement norms (the app's "Displacement norms: l2 L, max M" line) agree to -
 those settings and are compared with a run on the first rank count without them (e.g. a solver
 option that must not change the Newton path); --min-reused N also requires at least N Newton
 steps solved with a kept preconditioner ("preconditioner_reused"), each logged with zero set-up
-seconds. Prints the figures; exit status 0 if all hold, 1 otherwise.
+seconds, and --min-transfers-reused N at least N solved with a hierarchy set up again on kept
+transfers ("transfers_reused"), each logged with its (non-zero) set-up seconds. Prints the
+figures; exit status 0 if all hold, 1 otherwise.
 
   check_contact_ranks.py --app build/apps/contact_blocks --mpiexec mpirun --prm apps/contact_rings_2d.prm
                          --out DIR [--ranks 1 2] [--gmres 0.1] [--norms 1e-8] [--newton-slack 0]
@@ -37,7 +39,7 @@ def run(args, ranks, variant=()):
     if result.returncode != 0 or not norms or "; converged" not in result.stdout:
         print(f"the run on {ranks} ranks failed (exit {result.returncode}): {result.stderr[-600:]}")
         return None
-    newton, steps, gmres, reused, reused_with_setup = {}, [], [], 0, 0
+    newton, steps, gmres, reused, reused_with_setup, transfers, transfers_without_setup = {}, [], [], 0, 0, 0, 0
     for line in open(os.path.join(out, "run_log.jsonl")):
         entry = json.loads(line)
         if "newton" in entry:
@@ -48,10 +50,14 @@ def run(args, ranks, variant=()):
             if entry.get("preconditioner_reused"):
                 reused += 1
                 reused_with_setup += entry.get("setup_seconds", 0) != 0
+            if entry.get("transfers_reused"):
+                transfers += 1
+                transfers_without_setup += not entry.get("setup_seconds", 0) > 0
         elif "converged_step" in entry:
             steps.append((entry["converged_step"], round(entry["time"], 12)))
     return {"norms": tuple(float(x) for x in norms.groups()), "newton": newton, "steps": steps,
-            "gmres": sum(gmres) / max(len(gmres), 1), "reused": reused, "reused_with_setup": reused_with_setup}
+            "gmres": sum(gmres) / max(len(gmres), 1), "reused": reused, "reused_with_setup": reused_with_setup,
+            "transfers": transfers, "transfers_without_setup": transfers_without_setup}
 
 
 def same_newton_path(a, b, slack):
@@ -74,6 +80,7 @@ def main():
     parser.add_argument("--set", action="append", default=[])
     parser.add_argument("--variant", action="append", default=[])
     parser.add_argument("--min-reused", type=int, default=0)
+    parser.add_argument("--min-transfers-reused", type=int, default=0)
     parser.add_argument("--newton-slack", type=int, default=0)
     args = parser.parse_args()
     first = args.ranks[0]
@@ -92,11 +99,16 @@ def main():
         iterates = sum(len(v) for v in x["newton"].values())
         print(f"{r} ranks: {len(x['steps'])} steps, {iterates} Newton iterates, GMRES per Newton step "
               f"{x['gmres']:.2f}, displacement l2 {x['norms'][0]:.15g}, max {x['norms'][1]:.15g}, "
-              f"{x['reused']} solves with a kept preconditioner")
+              f"{x['reused']} solves with a kept preconditioner, {x['transfers']} with kept transfers")
         if x["reused"] < args.min_reused:
             failures.append(f"{r} ranks: {x['reused']} solves with a kept preconditioner (expected >= {args.min_reused})")
         if x["reused_with_setup"]:
             failures.append(f"{r} ranks: {x['reused_with_setup']} solves with a kept preconditioner log set-up seconds")
+        if x["transfers"] < args.min_transfers_reused:
+            failures.append(f"{r} ranks: {x['transfers']} solves with kept transfers "
+                            f"(expected >= {args.min_transfers_reused})")
+        if x["transfers_without_setup"]:
+            failures.append(f"{r} ranks: {x['transfers_without_setup']} solves with kept transfers log no set-up")
         if x is ref:
             continue
         if x["steps"] != ref["steps"]:

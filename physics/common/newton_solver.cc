@@ -98,8 +98,10 @@ namespace physics
     try
       {
         dealii::TimerOutput::Scope scope(timer_, "preconditioner setup");
-        preconditioner_ =
-            std::make_unique<multigrid::BlockPreconditioner>(system, preset_, settings_.export_aggregates);
+        multigrid::SetupOptions    options;
+        options.keep_aggregates = settings_.export_aggregates;
+        options.keep_transfers  = settings_.reuse_preconditioner == PreconditionerReuse::transfers;
+        preconditioner_         = std::make_unique<multigrid::BlockPreconditioner>(system, preset_, options);
       }
     catch (const multigrid::InputError&)
       {
@@ -118,26 +120,49 @@ namespace physics
     return "";
   }
 
+  bool NewtonSolver::refresh_preconditioner(const multigrid::BlockSystem& system)
+  {
+    try
+      {
+        dealii::TimerOutput::Scope scope(timer_, "preconditioner setup");
+        return preconditioner_->refresh(system);
+      }
+    catch (const std::exception&)
+      {
+        // The hierarchy is half set up: a fresh one follows (build_preconditioner reports what
+        // goes wrong with it).
+        preconditioner_.reset();
+        return false;
+      }
+  }
+
   std::string NewtonSolver::solve_linear(const multigrid::BlockSystem& system, multigrid::MultiVector& dx,
                                          double step_residual, JsonLinesLog::Line& line, NewtonResult& result,
                                          const std::string& aggregates_path, std::uint64_t state)
   {
     // A kept preconditioner approximates the inverse of an earlier Newton matrix of this step with
     // the same active set; GMRES still solves the new system, and where it does not converge with
-    // it the solve is repeated with a preconditioner of the new matrix.
-    bool reused = settings_.reuse_preconditioner && preconditioner_ && preconditioner_state_ == state;
-    if (!reused)
+    // it the solve is repeated with a preconditioner of the new matrix. Kept transfers give a
+    // hierarchy of the new matrix on the old aggregates (its set-up without the aggregation).
+    const auto reuse      = settings_.reuse_preconditioner;
+    const bool same_state = preconditioner_ && preconditioner_state_ == state;
+    bool       reused     = reuse == PreconditionerReuse::whole && same_state;
+    const bool refreshed =
+        reuse == PreconditionerReuse::transfers && same_state && refresh_preconditioner(system);
+    if (!reused && !refreshed)
       if (const auto failure = build_preconditioner(system, aggregates_path, state); !failure.empty())
         return failure;
+    bool                   kept = reused || refreshed;
     multigrid::SolveReport report;
     {
       dealii::TimerOutput::Scope scope(timer_, "linear solve");
       report = multigrid::solve(system, *preconditioner_, dx, options_);
     }
-    if (reused && !report.converged)
+    if (kept && !report.converged)
       {
         line.add("reused_preconditioner_iterations", report.iterations);
-        reused = false;
+        const double first_setup = report.preconditioner.setup_seconds;
+        reused = kept = false;
         if (const auto failure = build_preconditioner(system, aggregates_path, state); !failure.empty())
           return failure;
         const double first_seconds = report.solve_seconds;
@@ -146,12 +171,15 @@ namespace physics
           report = multigrid::solve(system, *preconditioner_, dx, options_);
         }
         report.solve_seconds += first_seconds;
+        report.preconditioner.setup_seconds += refreshed ? first_setup : 0.0;
       }
     if (reused)
       report.preconditioner.setup_seconds = 0;
-    if (settings_.reuse_preconditioner)
+    if (reuse != PreconditionerReuse::none)
       line.add("preconditioner_reused", reused);
-    if (!settings_.reuse_preconditioner)
+    if (reuse == PreconditionerReuse::transfers)
+      line.add("transfers_reused", kept);
+    if (reuse == PreconditionerReuse::none)
       preconditioner_.reset();
     result.linear_iterations.push_back(report.iterations);
     result.setup_seconds += report.preconditioner.setup_seconds;

@@ -64,6 +64,13 @@ namespace physics
     double relative = 1e-8;
   };
 
+  enum class PreconditionerReuse
+  {
+    none,
+    whole,
+    transfers
+  };
+
   struct NewtonSettings
   {
     int                         max_iterations = 30;
@@ -77,10 +84,12 @@ namespace physics
     /// at most this times ||b||, or this times the step's first Newton residual; above both
     /// the solve has failed.
     double accepted_linear_residual = 1e-3;
-    /// Keep a Newton step's preconditioner for the next Newton steps of the same solve while the
-    /// problem's state_signature() is the one it was built for (an unconverged solve with a kept
-    /// one is repeated with a fresh one).
-    bool reuse_preconditioner = false;
+    /// What of a Newton step's preconditioner the next Newton steps of the same solve keep
+    /// while the problem's state_signature() is the one it was built for: nothing, the whole
+    /// preconditioner, or the transfers of its hierarchy (set up again on the new matrix,
+    /// BlockPreconditioner::refresh). An unconverged solve with a kept one is repeated with a
+    /// fresh one.
+    PreconditionerReuse reuse_preconditioner = PreconditionerReuse::none;
     /// Testing the failure handling: these linear solves (counted from 1 over the solver's life)
     /// are reported as failed after they ran.
     std::set<int> injected_failures;
@@ -198,6 +207,9 @@ namespace physics
     /// returns "" or the failure message of a set-up that failed.
     std::string build_preconditioner(const multigrid::BlockSystem& system, const std::string& aggregates_path,
                                      std::uint64_t state);
+    /// Sets the kept preconditioner up again for `system` with its kept transfers; false where
+    /// that is not possible (BlockPreconditioner::refresh) or it failed (then there is none).
+    bool                  refresh_preconditioner(const multigrid::BlockSystem& system);
     const FieldTolerance& tolerance(std::size_t field) const;
 
     NewtonSettings              settings_;

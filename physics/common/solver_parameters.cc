@@ -15,6 +15,7 @@ namespace physics
   using dealii::Patterns::Bool;
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
+  using dealii::Patterns::Selection;
 
   namespace
   {
@@ -36,6 +37,21 @@ namespace physics
       if (!(v >= 0))
         throw std::invalid_argument("parameter '" + name + "': expected a value >= 0, got " + value);
       return v;
+    }
+
+    /// 'Reuse preconditioner': false / true (the whole preconditioner) / transfers.
+    std::string reuse_name(PreconditionerReuse reuse)
+    {
+      return reuse == PreconditionerReuse::whole       ? "true"
+             : reuse == PreconditionerReuse::transfers ? "transfers"
+                                                       : "false";
+    }
+
+    PreconditionerReuse reuse_from_name(const std::string& name)
+    {
+      return name == "true"        ? PreconditionerReuse::whole
+             : name == "transfers" ? PreconditionerReuse::transfers
+                                   : PreconditionerReuse::none;
     }
   } // namespace
 
@@ -107,12 +123,17 @@ namespace physics
                       "above both (or on a breakdown) the step fails and is cut (0 < value < 1). The default "
                       "tolerates an inexact solve (SuperLU without equilibration stalls near 1e-6 on contact "
                       "systems) but not one that barely reduced the residual.");
-    prm.declare_entry("Reuse preconditioner", reuse_preconditioner ? "true" : "false", Bool(),
-                      "Keep the preconditioner of a Newton step for the following Newton steps of the same "
-                      "load/time step while the problem's discrete state (contact: the active set and "
-                      "stick/slip) is the one it was built for, instead of setting up a new one from the new "
-                      "matrix; a solve with a kept preconditioner that does not converge is repeated with a "
-                      "fresh one. Saves the set-up where Newton only polishes a settled active set.");
+    prm.declare_entry("Reuse preconditioner", reuse_name(reuse_preconditioner),
+                      Selection("false|true|transfers"),
+                      "What the following Newton steps of the same load/time step keep of a Newton step's "
+                      "preconditioner while the problem's discrete state (contact: the active set and "
+                      "stick/slip) is the one it was built for. false: nothing, every Newton step sets up "
+                      "a new one; true: the whole preconditioner (GMRES solves the new matrix with the old "
+                      "hierarchy); transfers: the hierarchy's aggregates and prolongators, set up again on "
+                      "the new matrix without the aggregation (coarse operators, smoothers and coarse solver "
+                      "are new; presets with a blocked MueLu hierarchy, other presets set up a new one). A "
+                      "solve with a kept preconditioner that does not converge is repeated with a fresh one. "
+                      "Saves set-up time where Newton only polishes a settled active set.");
     prm.declare_entry("Injected failures", "", Anything(),
                       "For testing the failure handling: comma-separated numbers of linear solves (counted from 1 "
                       "over the run) that are reported as failed after they ran. Empty: none.");
@@ -167,7 +188,7 @@ namespace physics
     restart               = prm.get_integer("Restart");
     accepted_linear_residual =
         parameters::tolerance(prm.get_double("Accepted residual"), "'Accepted residual' (Linear solver)");
-    reuse_preconditioner = prm.get_bool("Reuse preconditioner");
+    reuse_preconditioner = reuse_from_name(prm.get("Reuse preconditioner"));
     injected_failures.clear();
     for (const double n : parameters::numbers(prm.get("Injected failures"), "Injected failures"))
       {

@@ -46,7 +46,7 @@ namespace physics
     double                   linear_tolerance      = 1e-8;
     int                      linear_max_iterations = 500, restart = 100;
     double                   accepted_linear_residual = 1e-3;
-    bool                     reuse_preconditioner     = false;
+    PreconditionerReuse      reuse_preconditioner     = PreconditionerReuse::none;
     std::set<int>            injected_failures; ///< testing: solves reported as failed
     // Newton, continued: divergence, line search, per-field tolerances (field name -> values set
     // in the file; fields not listed use the two tolerances above)
