@@ -116,8 +116,10 @@ namespace multigrid
     /// output is available is neither asked for its inputs nor built again: Hierarchy::SetupRe()
     /// on a new fine matrix then recomputes R A P and the smoothers with the old P and R and
     /// skips the aggregation and the prolongator smoothing. (MueLu's "reuse: type" sets such
-    /// flags for easy-style lists only; the keep list of HierarchyManager is protected, hence
-    /// the derived class.)
+    /// flags for easy-style lists only, and its "RP" also keeps the graphs of A P and R A P to
+    /// refill them, which fails for a new matrix of another sparsity pattern: a contact Newton
+    /// step's, whose mortar linearization couples other nodes. The keep list of HierarchyManager
+    /// is protected, hence the derived class; it serves factory- and easy-style lists.)
     using ListInterpreter = MueLu::ParameterListInterpreter<SC, LO, GO, NO>;
 
     class Interpreter : public ListInterpreter
@@ -187,7 +189,7 @@ namespace multigrid
   RCP<Hierarchy> build_single_field_hierarchy(const RCP<Matrix>& A, int dofs_per_node,
                                               const RCP<MultiVector>&       nullspace,
                                               const Teuchos::ParameterList& parameters,
-                                              const RCP<MultiVector>&       coordinates)
+                                              const RCP<MultiVector>& coordinates, bool keep_transfers)
   {
     Teuchos::ParameterList list = parameters;
     if (value_or<bool>(list, "repartition: enable", false) && coordinates.is_null())
@@ -201,8 +203,10 @@ namespace multigrid
     if (!list.isParameter("number of equations"))
       list.set("number of equations", dofs_per_node);
     A->SetFixedBlockSize(dofs_per_node);
-    MueLu::ParameterListInterpreter<SC, LO, GO, NO> interpreter(list, A->getRowMap()->getComm());
-    RCP<Hierarchy>                                  H = interpreter.CreateHierarchy();
+    Interpreter interpreter(list, A->getRowMap()->getComm());
+    if (keep_transfers)
+      interpreter.keep_transfers();
+    RCP<Hierarchy> H = interpreter.CreateHierarchy();
     H->IsPreconditioner(true);
     H->GetLevel(0)->Set("A", A);
     if (!nullspace.is_null())
@@ -215,6 +219,28 @@ namespace multigrid
     if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
       use_superlu_coarse_solver(*H);
     return H;
+  }
+
+  void set_up_on_kept_transfers(Hierarchy& H, const RCP<Matrix>& A)
+  {
+    H.GetLevel(0)->Set("A", A);
+    // The coarsest level still holds requests that the set-up declared for a next level it did
+    // not build (MueLu's CoarseMap -> Nullspace chain, the segregation labels' request of the
+    // tentative P), and Level::Clear() in SetupRe refuses data with open requests. On the coarse
+    // levels everything but the kept transfers goes (ExpertClear keeps only data flagged Keep);
+    // level 0 holds the user's data and has no open requests.
+    for (int l = 1; l < H.GetNumLevels(); ++l)
+      H.GetLevel(l)->ExpertClear();
+    H.SetupRe();
+  }
+
+  void refresh_single_field_hierarchy(Hierarchy& H, const RCP<Matrix>& A,
+                                      const Teuchos::ParameterList& parameters)
+  {
+    A->SetFixedBlockSize(H.GetLevel(0)->Get<RCP<Matrix>>("A")->GetFixedBlockSize());
+    set_up_on_kept_transfers(H, A);
+    if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
+      use_superlu_coarse_solver(H);
   }
 
   void use_superlu_coarse_solver(Hierarchy& H)
@@ -271,8 +297,10 @@ namespace multigrid
       }
     else if (preset.kind == "cheapsimple")
       {
-        auto cs = with_preset_context(preset.name,
-                                      [&] { return Teuchos::rcp(new CheapSimpleOperator(system, p)); });
+        auto cs                  = with_preset_context(preset.name, [&] {
+          return Teuchos::rcp(new CheapSimpleOperator(system, p, options.keep_transfers));
+        });
+        cheap_simple_            = cs;
         const auto primal_levels = cs->primal_levels();
         const bool amg_predictor = !primal_levels.empty();
         fill_levels(info_, amg_predictor ? primal_levels : cs->schur_levels());
@@ -295,7 +323,7 @@ namespace multigrid
         auto H = with_preset_context(preset.name, [&] {
           return build_single_field_hierarchy(system.merged_matrix(), system.block(0).dofs_per_node,
                                               system.nullspace_or_translations(0), p.sublist("MueLu"),
-                                              system.block(0).coordinates);
+                                              system.block(0).coordinates, options.keep_transfers);
         });
         fill_levels(info_, level_sizes(*H));
         hierarchy_          = H;
@@ -362,10 +390,11 @@ namespace multigrid
     if (keep_aggregates && !hierarchy_.is_null())
       aggregates_ =
           with_preset_context(preset.name, [&] { return recorded_aggregates(*hierarchy_, system); });
-    transfers_kept_ = options.keep_transfers && builds_blocked_hierarchy(preset);
+    transfers_kept_ = options.keep_transfers && (builds_blocked_hierarchy(preset) || preset.kind == "amg" ||
+                                                 preset.kind == "cheapsimple");
     if (transfers_kept_)
       for (std::size_t k = 0; k < system.n_blocks(); ++k)
-        block_maps_.push_back(system.blocked_matrix()->getRangeMap(k));
+        block_maps_.push_back(system.map_extractor()->getMap(k));
   }
 
   bool BlockPreconditioner::refresh(const BlockSystem& system)
@@ -375,20 +404,34 @@ namespace multigrid
     // The kept P of level 1 maps onto the old fine level's rows: a new matrix must have the same
     // row distribution in every block (isSameAs is collective, every rank asks).
     for (std::size_t k = 0; k < block_maps_.size(); ++k)
-      if (!system.blocked_matrix()->getRangeMap(k)->isSameAs(*block_maps_[k]))
+      if (!system.map_extractor()->getMap(k)->isSameAs(*block_maps_[k]))
         return false;
     Teuchos::Time timer("refresh");
     timer.start(true);
+    if (!cheap_simple_.is_null())
+      {
+        with_preset_context(preset_.name, [&] { cheap_simple_->refresh(system); });
+        const auto primal_levels = cheap_simple_->primal_levels();
+        info_.levels.clear();
+        fill_levels(info_, primal_levels.empty() ? cheap_simple_->schur_levels() : primal_levels);
+        info_.setup_seconds    = timer.stop();
+        info_.transfers_reused = true;
+        return true;
+      }
+    if (preset_.kind == "amg")
+      {
+        with_preset_context(preset_.name, [&] {
+          refresh_single_field_hierarchy(*hierarchy_, system.merged_matrix(),
+                                         preset_.parameters.sublist("MueLu"));
+        });
+        info_.levels.clear();
+        fill_levels(info_, level_sizes(*hierarchy_));
+        info_.setup_seconds    = timer.stop();
+        info_.transfers_reused = true;
+        return true;
+      }
     with_preset_context(preset_.name, [&] {
-      hierarchy_->GetLevel(0)->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
-      // The coarsest level still holds requests that the set-up declared for a next level it
-      // did not build (MueLu's CoarseMap -> Nullspace chain, the segregation labels' request of
-      // the tentative P), and Level::Clear() in SetupRe refuses data with open requests. On the
-      // coarse levels everything but the kept transfers goes (ExpertClear keeps only data
-      // flagged Keep); level 0 holds the user's data and has no open requests.
-      for (int l = 1; l < hierarchy_->GetNumLevels(); ++l)
-        hierarchy_->GetLevel(l)->ExpertClear();
-      hierarchy_->SetupRe();
+      set_up_on_kept_transfers(*hierarchy_, Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
     });
     info_.levels.clear();
     fill_levels(info_, level_sizes(*hierarchy_));
@@ -410,22 +453,20 @@ namespace multigrid
 
   RCP<const Matrix> BlockPreconditioner::prolongator(int level) const
   {
-    if (hierarchy_.is_null() || level + 1 >= hierarchy_->GetNumLevels())
+    const auto H = cheap_simple_.is_null() ? hierarchy_ : cheap_simple_->primal_hierarchy();
+    if (H.is_null() || level + 1 >= H->GetNumLevels())
       throw InputError("preset '" + info_.preset + "' has no prolongator below level " +
                        std::to_string(level));
-    return hierarchy_->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
+    return H->GetLevel(level + 1)->Get<RCP<Matrix>>("P");
   }
 
-  RCP<const BlockedCrsMatrix> BlockPreconditioner::coarse_operator(int level) const
+  RCP<const Matrix> BlockPreconditioner::coarse_operator(int level) const
   {
-    RCP<const BlockedCrsMatrix> A;
-    if (!hierarchy_.is_null() && level >= 1 && level < hierarchy_->GetNumLevels())
-      A = Teuchos::rcp_dynamic_cast<const BlockedCrsMatrix>(
-          hierarchy_->GetLevel(level)->Get<RCP<Matrix>>("A"));
-    if (A.is_null())
-      throw InputError("preset '" + info_.preset + "' has no blocked operator on level " +
+    const auto H = cheap_simple_.is_null() ? hierarchy_ : cheap_simple_->primal_hierarchy();
+    if (H.is_null() || level < 1 || level >= H->GetNumLevels())
+      throw InputError("preset '" + info_.preset + "' has no coarse operator on level " +
                        std::to_string(level));
-    return A;
+    return H->GetLevel(level)->Get<RCP<Matrix>>("A");
   }
 
   RCP<const Matrix> BlockPreconditioner::prolongator_block(int level, int block) const

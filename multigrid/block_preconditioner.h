@@ -21,6 +21,8 @@ namespace MueLu
 
 namespace multigrid
 {
+  class CheapSimpleOperator;
+
   struct LevelInfo
   {
     long long              rows     = 0;
@@ -51,7 +53,8 @@ namespace multigrid
     /// The aggregates of every field and level, for aggregates() (blocked MueLu hierarchies
     /// only: InputError for other kinds).
     bool keep_aggregates = false;
-    /// Every coarse level's transfers P and R, for refresh() (blocked MueLu hierarchies; other
+    /// Every coarse level's transfers P and R, for refresh() (the MueLu hierarchies of the kinds
+    /// saddle-point-amg, muelu, fully-coupled-amg, amg and the inner ones of cheapsimple; other
     /// kinds ignore it, and their refresh() returns false).
     bool keep_transfers = false;
   };
@@ -67,9 +70,11 @@ namespace multigrid
     /// Sets the hierarchy up again for `system`'s matrix with the transfers kept from the first
     /// set-up: the coarse operators R A P, the level smoothers (with their Schur complements) and
     /// the coarse solver are recomputed, the aggregates and prolongators are not (MueLu's
-    /// Hierarchy::SetupRe). Returns false, changing nothing, where that is not possible: a
-    /// preconditioner built without keep_transfers or of another kind, or a system whose block
-    /// maps differ from those it was built for. Throws like the constructor if the set-up fails.
+    /// Hierarchy::SetupRe; cheapsimple: Â, the Schur complement and the update's Â anew, the
+    /// inner hierarchies on their kept transfers). The new matrix may have another sparsity
+    /// pattern. Returns false, changing nothing, where that is not possible: a preconditioner
+    /// built without keep_transfers or of another kind, or a system whose block maps differ from
+    /// those it was built for. Throws like the constructor if the set-up fails.
     bool refresh(const BlockSystem& system);
 
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op() const { return op_; }
@@ -78,11 +83,11 @@ namespace multigrid
     /// `level` + 1 to `level` (level 0 = fine). Throws InputError for other kinds or levels.
     RCP<const Matrix>         prolongator_block(int level, int block) const;
     /// The whole prolongator from level `level` + 1 to `level` (a BlockedCrsMatrix for blocked
-    /// hierarchies). Throws InputError like prolongator_block.
+    /// hierarchies; cheapsimple: its inner primal AMG's). Throws InputError like prolongator_block.
     RCP<const Matrix> prolongator(int level) const;
-    /// The operator of coarse level `level` (>= 1) of a blocked hierarchy. Throws InputError for
-    /// other kinds or levels.
-    RCP<const BlockedCrsMatrix> coarse_operator(int level) const;
+    /// The operator of coarse level `level` (>= 1) of the hierarchy prolongator() reads (a
+    /// BlockedCrsMatrix for blocked hierarchies). Throws InputError for other kinds or levels.
+    RCP<const Matrix>         coarse_operator(int level) const;
     const PreconditionerInfo& info() const { return info_; }
     /// Every field's aggregates per coarse level (empty unless built with keep_aggregates).
     const std::vector<FieldAggregates>& aggregates() const { return aggregates_; }
@@ -90,6 +95,7 @@ namespace multigrid
   private:
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> hierarchy_;
+    RCP<CheapSimpleOperator>              cheap_simple_; ///< kind cheapsimple (also in op_)
     Preset                                preset_;
     bool                                  transfers_kept_ = false;
     std::vector<RCP<const Map>>           block_maps_; ///< of the system the transfers were built for

@@ -34,9 +34,9 @@ namespace multigrid
     }
   } // namespace
 
-  CheapSimpleOperator::CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& p)
-      : merged_(system.merged_matrix())
-      , extractor_(system.map_extractor())
+  CheapSimpleOperator::CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& p,
+                                           bool keep_transfers)
+      : extractor_(system.map_extractor())
       , full_map_(system.full_map())
   {
     if (system.n_blocks() != 2)
@@ -48,41 +48,74 @@ namespace multigrid
       throw InputError("CheapSIMPLE: sweeps must be >= 1 and damping > 0 (got " + std::to_string(sweeps_) +
                        ", " + std::to_string(damping_) + ")");
     // Â's type is checked by approximate_inverse().
-    const auto inverse = inverse_approximation_options(p, "inverse approximation", "diagonal");
+    inverse_options_ = inverse_approximation_options(p, "inverse approximation", "diagonal");
     // The final update's Â: the Schur complement's unless chosen apart (SIMPLE's diag(A)^-1 with
     // a lumped S, e.g.); the same type is computed once.
-    const auto update = inverse_approximation_options(p, "update inverse approximation", inverse.type);
+    update_options_ = inverse_approximation_options(p, "update inverse approximation", inverse_options_.type);
     const std::string predictor       = choice(p, "predictor", "amg", {"amg", "approximate inverse"});
     const std::string schur_nullspace = choice(p, "schur nullspace", "none", {"none", "block"});
 
-    const auto blocked = system.blocked_matrix();
-    A_                 = blocked->getMatrix(0, 0);
-    B1t_               = blocked->getMatrix(0, 1);
-    B2_                = blocked->getMatrix(1, 0);
-    RCP<Matrix> C      = blocked->getMatrix(1, 1);
-    A_inverse_         = approximate_inverse(*A_, inverse);
-    update_inverse_    = update.type == inverse.type ? A_inverse_ : approximate_inverse(*A_, update);
-
-    // S = C - B2 Â B1^T, formed explicitly (sparse: Â is diagonal or a SPAI on a fixed pattern).
-    auto        out     = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
-    RCP<Matrix> AinvB1t = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*A_inverse_, false, *B1t_, false, *out);
-    RCP<Matrix> product = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*B2_, false, *AinvB1t, false, *out);
-    RCP<Matrix> S;
-    Xpetra::MatrixMatrix<SC, LO, GO, NO>::TwoMatrixAdd(*C, false, 1.0, *product, false, -1.0, S, *out);
-    S->fillComplete(C->getDomainMap(), C->getRangeMap());
-    S_ = S;
+    if (predictor == "amg")
+      primal_parameters_ = p.sublist("primal solver");
+    schur_parameters_ = p.sublist("schur solver");
+    adopt(form_blocks(system));
 
     if (predictor == "amg")
       primal_ =
           build_single_field_hierarchy(A_, system.block(0).dofs_per_node, system.nullspace_or_translations(0),
-                                       p.sublist("primal solver"), system.block(0).coordinates);
+                                       primal_parameters_, system.block(0).coordinates, keep_transfers);
     // S of a contact system lives on the multipliers (no near-nullspace); S of beam/solid on the
     // solid, whose rigid-body modes make the inner SA-AMG elasticity-aware.
     if (schur_nullspace == "block")
-      schur_ = build_single_field_hierarchy(S_, system.block(1).dofs_per_node, system.nullspace_or_translations(1),
-                                            p.sublist("schur solver"));
+      schur_ =
+          build_single_field_hierarchy(S_, system.block(1).dofs_per_node, system.nullspace_or_translations(1),
+                                       schur_parameters_, Teuchos::null, keep_transfers);
     else
-      schur_ = build_single_field_hierarchy(S_, 1, Teuchos::null, p.sublist("schur solver"));
+      schur_ = build_single_field_hierarchy(S_, 1, Teuchos::null, schur_parameters_, Teuchos::null,
+                                            keep_transfers);
+  }
+
+  CheapSimpleOperator::Blocks CheapSimpleOperator::form_blocks(const BlockSystem& system) const
+  {
+    Blocks     b;
+    const auto blocked = system.blocked_matrix();
+    b.merged           = system.merged_matrix();
+    b.A                = blocked->getMatrix(0, 0);
+    b.B1t              = blocked->getMatrix(0, 1);
+    b.B2               = blocked->getMatrix(1, 0);
+    RCP<Matrix> C      = blocked->getMatrix(1, 1);
+    b.A_inverse        = approximate_inverse(*b.A, inverse_options_);
+    b.update_inverse   = update_options_.type == inverse_options_.type
+                             ? b.A_inverse
+                             : approximate_inverse(*b.A, update_options_);
+
+    // S = C - B2 Â B1^T, formed explicitly (sparse: Â is diagonal or a SPAI on a fixed pattern).
+    auto        out = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
+    RCP<Matrix> AinvB1t =
+        Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*b.A_inverse, false, *b.B1t, false, *out);
+    RCP<Matrix> product = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*b.B2, false, *AinvB1t, false, *out);
+    Xpetra::MatrixMatrix<SC, LO, GO, NO>::TwoMatrixAdd(*C, false, 1.0, *product, false, -1.0, b.S, *out);
+    b.S->fillComplete(C->getDomainMap(), C->getRangeMap());
+    return b;
+  }
+
+  void CheapSimpleOperator::adopt(Blocks b)
+  {
+    merged_         = std::move(b.merged);
+    A_              = std::move(b.A);
+    B1t_            = std::move(b.B1t);
+    B2_             = std::move(b.B2);
+    S_              = std::move(b.S);
+    A_inverse_      = std::move(b.A_inverse);
+    update_inverse_ = std::move(b.update_inverse);
+  }
+
+  void CheapSimpleOperator::refresh(const BlockSystem& system)
+  {
+    adopt(form_blocks(system));
+    if (!primal_.is_null())
+      refresh_single_field_hierarchy(*primal_, A_, primal_parameters_);
+    refresh_single_field_hierarchy(*schur_, S_, schur_parameters_);
   }
 
   void CheapSimpleOperator::apply(const ::multigrid::MultiVector& X, ::multigrid::MultiVector& Y,

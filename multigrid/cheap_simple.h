@@ -21,6 +21,7 @@
 #pragma once
 
 #include "block_system.h"
+#include "inverse_approximation.h"
 
 #include <Teuchos_ParameterList.hpp>
 #include <Xpetra_Operator.hpp>
@@ -44,7 +45,15 @@ namespace multigrid
     /// predictor (amg | approximate inverse),
     /// "schur nullspace" (none | block), sublists "primal solver" (predictor amg) and
     /// "schur solver" (MueLu parameter lists).
-    CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& parameters);
+    /// With `keep_transfers`, the inner AMG hierarchies keep their transfers for refresh().
+    CheapSimpleOperator(const BlockSystem& system, const Teuchos::ParameterList& parameters,
+                        bool keep_transfers = false);
+
+    /// The preconditioner of `system`'s matrix (the same block maps as the first one's): Â, the
+    /// Schur complement and the final update's Â are formed anew, the inner AMG hierarchies set
+    /// up again on their kept transfers (refresh_single_field_hierarchy). Only for an operator
+    /// built with keep_transfers.
+    void refresh(const BlockSystem& system);
 
     RCP<const ::multigrid::Map> getDomainMap() const override { return full_map_; }
     RCP<const ::multigrid::Map> getRangeMap() const override { return full_map_; }
@@ -53,6 +62,8 @@ namespace multigrid
     void                        residual(const ::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
                                          ::multigrid::MultiVector& R) const override;
 
+    /// The inner primal AMG (null with the approximate-inverse predictor).
+    RCP<MueLu::Hierarchy<SC, LO, GO, NO>> primal_hierarchy() const { return primal_; }
     /// Levels of the inner primal AMG (fine first); empty with the approximate-inverse predictor.
     std::vector<std::pair<long long, long long>> primal_levels() const;
     /// Levels of the Schur-complement solver (fine first).
@@ -61,6 +72,16 @@ namespace multigrid
     long long                                    inverse_approximation_nonzeros() const;
 
   private:
+    /// The blocks of `system`, Â, Â_u and S = C - B2 Â B1^T (the first step of the set-up and of
+    /// refresh()), and their adoption as this operator's.
+    struct Blocks
+    {
+      RCP<const Matrix> merged;
+      RCP<Matrix>       A, B1t, B2, S, A_inverse, update_inverse;
+    };
+    Blocks form_blocks(const BlockSystem& system) const;
+    void   adopt(Blocks blocks);
+
     // The system's operator and block splitting by reference count (not the BlockSystem itself):
     // a Newton solver may keep this preconditioner after the system it was built from is gone.
     RCP<const Matrix>                     merged_;
@@ -73,5 +94,7 @@ namespace multigrid
     RCP<Matrix>                           update_inverse_; ///< Â_u in the final update
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> primal_;    ///< null with the approximate-inverse predictor
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> schur_;
+    InverseApproximationOptions           inverse_options_, update_options_;
+    Teuchos::ParameterList                primal_parameters_, schur_parameters_;
   };
 } // namespace multigrid

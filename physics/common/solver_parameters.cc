@@ -123,17 +123,18 @@ namespace physics
                       "above both (or on a breakdown) the step fails and is cut (0 < value < 1). The default "
                       "tolerates an inexact solve (SuperLU without equilibration stalls near 1e-6 on contact "
                       "systems) but not one that barely reduced the residual.");
-    prm.declare_entry("Reuse preconditioner", reuse_name(reuse_preconditioner),
-                      Selection("false|true|transfers"),
-                      "What the following Newton steps of the same load/time step keep of a Newton step's "
-                      "preconditioner while the problem's discrete state (contact: the active set and "
-                      "stick/slip) is the one it was built for. false: nothing, every Newton step sets up "
-                      "a new one; true: the whole preconditioner (GMRES solves the new matrix with the old "
-                      "hierarchy); transfers: the hierarchy's aggregates and prolongators, set up again on "
-                      "the new matrix without the aggregation (coarse operators, smoothers and coarse solver "
-                      "are new; presets with a blocked MueLu hierarchy, other presets set up a new one). A "
-                      "solve with a kept preconditioner that does not converge is repeated with a fresh one. "
-                      "Saves set-up time where Newton only polishes a settled active set.");
+    prm.declare_entry(
+        "Reuse preconditioner", reuse_name(reuse_preconditioner), Selection("false|true|transfers"),
+        "What the following Newton steps of the same load/time step keep of a Newton step's "
+        "preconditioner while the problem's discrete state (contact: the active set and "
+        "stick/slip) is the one it was built for. false: nothing, every Newton step sets up "
+        "a new one; true: the whole preconditioner (GMRES solves the new matrix with the old "
+        "hierarchy); transfers: the hierarchy's aggregates and prolongators, set up again on "
+        "the new matrix without the aggregation (coarse operators, smoothers and coarse solver "
+        "are new; presets with a MueLu hierarchy: the blocked ones, cheapsimple's inner AMGs (its "
+        "Schur complement formed anew) and amg; direct presets set up a new one). A "
+        "solve with a kept preconditioner that does not converge is repeated with a fresh one. "
+        "Saves set-up time where Newton only polishes a settled active set.");
     prm.declare_entry("Injected failures", "", Anything(),
                       "For testing the failure handling: comma-separated numbers of linear solves (counted from 1 "
                       "over the run) that are reported as failed after they ran. Empty: none.");
