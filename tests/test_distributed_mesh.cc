@@ -6,6 +6,7 @@
 // message instead of leaving the ranks that do not read it waiting. ctest runs it on 1 and 2
 // ranks (the storage test is only meaningful on 2).
 #include "common/distributed_mesh.h"
+#include "common/mesh_input.h"
 #include "common/solid_mechanics.h"
 
 #include <deal.II/base/function.h>
@@ -106,6 +107,22 @@ TEST(DistributedMesh, AGmshSourceIsMeshedOnceAndRefinedBeforePartitioning)
   physics::read_distributed_mesh<2>(geo, 1, 1, TEST_OUTPUT_DIR, fine);
   EXPECT_GT(coarse.n_global_active_cells(), 0u);
   EXPECT_EQ(fine.n_global_active_cells(), 4 * coarse.n_global_active_cells());
+}
+
+// A Gmsh variable must occur in the .geo's code: a name that only a comment or a string
+// mentions would be defined by gmsh and never used.
+TEST(DistributedMesh, AGmshVariableMustOccurInTheGeoCode)
+{
+  physics::GmshSource source;
+  source.variables = {{"length", 20.0}};
+  const auto check = [&](const std::string& geo) { source.check_variables_in("test.geo", geo); };
+  EXPECT_NO_THROW(check("DefineConstant[ length = 10 ];\nPoint(1) = {length, 0, 0};"));
+  EXPECT_NO_THROW(check("// the bar\nl = length; /* a comment */"));
+  EXPECT_THROW(check("// length: the bar's length\nl = 10;"), std::invalid_argument);
+  EXPECT_THROW(check("/* length\n of the bar */ l = 10;"), std::invalid_argument);
+  EXPECT_THROW(check("Printf(\"length\");"), std::invalid_argument);
+  EXPECT_THROW(check("lengths = 10; bar_length = 2;"), std::invalid_argument);
+  EXPECT_THROW(check("l = 10; /* length"), std::invalid_argument); // unterminated comment
 }
 
 namespace

@@ -7,6 +7,7 @@
 #include <deal.II/grid/grid_in.h>
 
 #include <algorithm>
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
@@ -130,10 +131,36 @@ namespace physics
     return s.str();
   }
 
-  void GmshSource::check_variables_in(const std::string& file, const std::string& geo) const
+  namespace
   {
-    // A whole word of the source: not a part of a longer name.
+    /// The .geo text with its comments (// to the line's end, /* ... */) and string literals
+    /// blanked: what the code itself says. A blank keeps the words on either side apart.
+    std::string geo_code(const std::string& geo)
+    {
+      std::string code = geo;
+      for (std::size_t i = 0; i < code.size(); ++i)
+        {
+          std::size_t end = i;
+          if (code.compare(i, 2, "//") == 0)
+            end = std::min(code.find('\n', i), code.size());
+          else if (code.compare(i, 2, "/*") == 0)
+            end = std::min(code.find("*/", i + 2), code.size() - 2) + 2;
+          else if (code[i] == '"')
+            end = std::min(code.find('"', i + 1), code.size() - 1) + 1;
+          else
+            continue;
+          std::fill(code.begin() + i, code.begin() + end, ' ');
+          i = end - 1;
+        }
+      return code;
+    }
+  } // namespace
+
+  void GmshSource::check_variables_in(const std::string& file, const std::string& geo_text) const
+  {
+    // A whole word of the code: not a part of a longer name, not in a comment or a string.
     const auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    const std::string geo   = geo_code(geo_text);
     for (const auto& [name, value] : variables)
       {
         bool found = false;

@@ -32,8 +32,9 @@ namespace physics
     std::string setnumbers() const;
     /// "refine N, NAME VALUE, ..." (messages, file names)
     std::string describe() const;
-    /// Throws std::invalid_argument naming the parameter 'Gmsh variables' if the .geo text `geo`
-    /// (file `file`) does not mention a variable (gmsh would define it silently, unused).
+    /// Throws std::invalid_argument naming the parameter 'Gmsh variables' if the code of the .geo
+    /// text `geo` (file `file`; comments and strings do not count) does not mention a variable
+    /// (gmsh would define it silently, unused).
     void check_variables_in(const std::string& file, const std::string& geo) const;
   };
 
