@@ -123,6 +123,7 @@ namespace physics::fsi
     fluid_model_.properties = {p_.fluid_density, p_.fluid_viscosity};
     fluid_model_.scheme     = p_.fluid_scheme;
     fluid_model_.theta      = p_.fluid_theta;
+    fluid_model_.tau_with_time_step = p_.tau_with_time_step;
     DynamicSparsityPattern fluid_pattern(fluid_relevant_),
         shape_pattern(fluid_dofs_.n_dofs(), mesh_dofs_.n_dofs(), fluid_relevant_);
     DoFTools::make_sparsity_pattern(fluid_dofs_, fluid_pattern, fluid_constraints_, false);

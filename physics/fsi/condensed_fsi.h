@@ -77,6 +77,7 @@ namespace physics::fsi
     int    cells_wall_x = 0; ///< 0: cells_x (matching interface nodes)
     // Fluid
     double fluid_density = 1.0, fluid_viscosity = 0.03; // g/cm^3, P (CGS)
+    bool   tau_with_time_step = true;                   ///< tau_M with its (2/dt)^2 term (FluidModel)
     // Structure: generalized-alpha
     double spectral_radius = 1.0;
     // ALE mesh

@@ -49,6 +49,15 @@ namespace physics::fsi
     prm.enter_subsection("Fluid");
     prm.declare_entry("Density", "1", Double(), "rho_F (> 0; CGS: g/cm^3).");
     prm.declare_entry("Viscosity", "0.03", Double(), "Dynamic viscosity mu_F (> 0; CGS: P).");
+    prm.declare_entry(
+        "Stabilization with time step", d.tau_with_time_step ? "true" : "false", Bool(),
+        "The PSPG/SUPG parameter tau_M = ((2/dt)^2 + 4|c|^2/h^2 + (4 nu/h^2)^2)^(-1/2) with its "
+        "(2/dt)^2 term (the usual choice), or without it (the seeds' code's 'wo_dt' definitions: "
+        "the stabilized discretization then does not depend on dt, and small steps keep the PSPG "
+        "pressure stabilization, which tau_M -> dt/2 weakens as dt -> 0). Without it tau_M of fluid at rest "
+        "is "
+        "h^2 / (4 nu), far above dt where the flow starts suddenly: the pressure-pulse channel's Newton "
+        "diverges in its first step (dt 1e-4 and 2.5e-5); the Turek-Hron FSI1 case converges either way.");
     prm.leave_subsection();
 
     MaterialParameters::declare(prm, d, "the walls", "dyn/cm^2 (CGS; 3e6 = 3e5 Pa)", "g/cm^3 (CGS)", true);
@@ -147,7 +156,8 @@ namespace physics::fsi
 
     prm.enter_subsection("Fluid");
     fluid_density   = positive(prm.get_double("Density"), "Density (Fluid)");
-    fluid_viscosity = positive(prm.get_double("Viscosity"), "Viscosity (Fluid)");
+    fluid_viscosity    = positive(prm.get_double("Viscosity"), "Viscosity (Fluid)");
+    tau_with_time_step = prm.get_bool("Stabilization with time step");
     prm.leave_subsection();
 
     MaterialParameters::parse(prm, true);
