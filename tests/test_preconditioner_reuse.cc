@@ -146,43 +146,46 @@ namespace
   }
 } // namespace
 
-/// `system` with the entries of its matrix that are exactly zero dropped: the same maps, another
-/// sparsity pattern (the dual multipliers' D stores its zero off-diagonal entries), as a contact
-/// Newton step's matrix whose mortar linearization couples other nodes than the last one's.
-BlockSystem without_zeros(const BlockSystem& system)
+namespace
 {
-  const auto& A = *system.merged_matrix();
-  auto        B = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getNodeMaxNumRowEntries());
-  Teuchos::ArrayView<const LO> columns;
-  Teuchos::ArrayView<const SC> values;
-  for (LO i = 0; i < static_cast<LO>(A.getNodeNumRows()); ++i)
-    {
-      A.getLocalRowView(i, columns, values);
-      std::vector<GO> kept_columns;
-      std::vector<SC> kept_values;
-      for (int k = 0; k < columns.size(); ++k)
-        if (values[k] != 0.0)
-          {
-            kept_columns.push_back(A.getColMap()->getGlobalElement(columns[k]));
-            kept_values.push_back(values[k]);
-          }
-      B->insertGlobalValues(A.getRowMap()->getGlobalElement(i), kept_columns, kept_values);
-    }
-  B->fillComplete(A.getDomainMap(), A.getRangeMap());
-  std::vector<std::vector<GO>> owned(system.n_blocks());
-  std::vector<BlockInfo>       blocks;
-  for (std::size_t k = 0; k < system.n_blocks(); ++k)
-    {
-      blocks.push_back(system.block(k));
-      for (LO i = 0; i < static_cast<LO>(system.block(k).map->getNodeNumElements()); ++i)
-        owned[k].push_back(system.block(k).map->getGlobalElement(i));
-    }
-  EXPECT_LT(B->getGlobalNumEntries(), A.getGlobalNumEntries()) << "no stored zeros to drop";
-  auto pruned = BlockSystem::from_merged(comm(), blocks, owned, B, system.rhs());
-  if (system.has_interface())
-    pruned.set_interface(system.interface());
-  return pruned;
-}
+  /// `system` with the entries of its matrix that are exactly zero dropped: the same maps, another
+  /// sparsity pattern (the dual multipliers' D stores its zero off-diagonal entries), as a contact
+  /// Newton step's matrix whose mortar linearization couples other nodes than the last one's.
+  BlockSystem without_zeros(const BlockSystem& system)
+  {
+    const auto& A = *system.merged_matrix();
+    auto        B = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getNodeMaxNumRowEntries());
+    Teuchos::ArrayView<const LO> columns;
+    Teuchos::ArrayView<const SC> values;
+    for (LO i = 0; i < static_cast<LO>(A.getNodeNumRows()); ++i)
+      {
+        A.getLocalRowView(i, columns, values);
+        std::vector<GO> kept_columns;
+        std::vector<SC> kept_values;
+        for (int k = 0; k < columns.size(); ++k)
+          if (values[k] != 0.0)
+            {
+              kept_columns.push_back(A.getColMap()->getGlobalElement(columns[k]));
+              kept_values.push_back(values[k]);
+            }
+        B->insertGlobalValues(A.getRowMap()->getGlobalElement(i), kept_columns, kept_values);
+      }
+    B->fillComplete(A.getDomainMap(), A.getRangeMap());
+    std::vector<std::vector<GO>> owned(system.n_blocks());
+    std::vector<BlockInfo>       blocks;
+    for (std::size_t k = 0; k < system.n_blocks(); ++k)
+      {
+        blocks.push_back(system.block(k));
+        for (LO i = 0; i < static_cast<LO>(system.block(k).map->getNodeNumElements()); ++i)
+          owned[k].push_back(system.block(k).map->getGlobalElement(i));
+      }
+    EXPECT_LT(B->getGlobalNumEntries(), A.getGlobalNumEntries()) << "no stored zeros to drop";
+    auto pruned = BlockSystem::from_merged(comm(), blocks, owned, B, system.rhs());
+    if (system.has_interface())
+      pruned.set_interface(system.interface());
+    return pruned;
+  }
+} // namespace
 
 TEST(TransferReuse, ContactPresets)
 {
@@ -196,21 +199,24 @@ TEST(TransferReuse, ContactPresets)
     check_refresh(name, system, changed);
 }
 
-/// The primal block of a tied-blocks system as a one-field system (both bodies held by their
-/// Dirichlet boundaries: SPD).
-BlockSystem primal_only(const BlockSystem& system)
+namespace
 {
-  auto                         map = system.block(0).map;
-  std::vector<std::vector<GO>> owned(1);
-  for (LO i = 0; i < static_cast<LO>(map->getNodeNumElements()); ++i)
-    owned[0].push_back(map->getGlobalElement(i));
-  auto b = MVF::Build(map, 1);
-  b->putScalar(1.0);
-  auto one =
-      BlockSystem::from_merged(comm(), {system.block(0)}, owned, system.blocked_matrix()->getMatrix(0, 0), b);
-  one.block(0).nullspace = system.block(0).nullspace;
-  return one;
-}
+  /// The primal block of a tied-blocks system as a one-field system (both bodies held by their
+  /// Dirichlet boundaries: SPD).
+  BlockSystem primal_only(const BlockSystem& system)
+  {
+    auto                         map = system.block(0).map;
+    std::vector<std::vector<GO>> owned(1);
+    for (LO i = 0; i < static_cast<LO>(map->getNodeNumElements()); ++i)
+      owned[0].push_back(map->getGlobalElement(i));
+    auto b = MVF::Build(map, 1);
+    b->putScalar(1.0);
+    auto one               = BlockSystem::from_merged(comm(), {system.block(0)}, owned,
+                                                      system.blocked_matrix()->getMatrix(0, 0), b);
+    one.block(0).nullspace = system.block(0).nullspace;
+    return one;
+  }
+} // namespace
 
 TEST(TransferReuse, SingleFieldPreset)
 {
