@@ -111,15 +111,15 @@ namespace multigrid
         }
     }
 
-    /// MueLu's interpreter of a factory-style list that can also mark every coarse level's
-    /// transfers to be kept. A kept datum survives Hierarchy::Clear(), and a factory whose
+    /// MueLu's interpreter of a parameter list (factory- or easy-style) that can also mark every
+    /// coarse level's transfers to be kept. A kept datum survives Hierarchy::Clear(), and a factory whose
     /// output is available is neither asked for its inputs nor built again: Hierarchy::SetupRe()
     /// on a new fine matrix then recomputes R A P and the smoothers with the old P and R and
     /// skips the aggregation and the prolongator smoothing. (MueLu's "reuse: type" sets such
     /// flags for easy-style lists only, and its "RP" also keeps the graphs of A P and R A P to
     /// refill them, which fails for a new matrix of another sparsity pattern: a contact Newton
     /// step's, whose mortar linearization couples other nodes. The keep list of HierarchyManager
-    /// is protected, hence the derived class; it serves factory- and easy-style lists.)
+    /// is protected, hence the derived class.)
     using ListInterpreter = MueLu::ParameterListInterpreter<SC, LO, GO, NO>;
 
     class Interpreter : public ListInterpreter
@@ -408,34 +408,26 @@ namespace multigrid
         return false;
     Teuchos::Time timer("refresh");
     timer.start(true);
-    if (!cheap_simple_.is_null())
-      {
-        with_preset_context(preset_.name, [&] { cheap_simple_->refresh(system); });
-        const auto primal_levels = cheap_simple_->primal_levels();
-        info_.levels.clear();
-        fill_levels(info_, primal_levels.empty() ? cheap_simple_->schur_levels() : primal_levels);
-        info_.setup_seconds    = timer.stop();
-        info_.transfers_reused = true;
-        return true;
-      }
-    if (preset_.kind == "amg")
-      {
-        with_preset_context(preset_.name, [&] {
-          refresh_single_field_hierarchy(*hierarchy_, system.merged_matrix(),
-                                         preset_.parameters.sublist("MueLu"));
-        });
-        info_.levels.clear();
-        fill_levels(info_, level_sizes(*hierarchy_));
-        info_.setup_seconds    = timer.stop();
-        info_.transfers_reused = true;
-        return true;
-      }
     with_preset_context(preset_.name, [&] {
-      set_up_on_kept_transfers(*hierarchy_, Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
+      if (!cheap_simple_.is_null())
+        cheap_simple_->refresh(system);
+      else if (preset_.kind == "amg")
+        refresh_single_field_hierarchy(*hierarchy_, system.merged_matrix(),
+                                       preset_.parameters.sublist("MueLu"));
+      else
+        set_up_on_kept_transfers(*hierarchy_, Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
     });
     info_.levels.clear();
-    fill_levels(info_, level_sizes(*hierarchy_));
-    fill_block_rows(info_, *hierarchy_);
+    if (!cheap_simple_.is_null())
+      {
+        const auto primal_levels = cheap_simple_->primal_levels();
+        fill_levels(info_, primal_levels.empty() ? cheap_simple_->schur_levels() : primal_levels);
+      }
+    else
+      {
+        fill_levels(info_, level_sizes(*hierarchy_));
+        fill_block_rows(info_, *hierarchy_); // blocked hierarchies only
+      }
     if (preset_.kind == "fully-coupled-amg")
       {
         // The level smoother's check (fully_coupled_amg.h) holds for the new matrix too.
