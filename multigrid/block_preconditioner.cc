@@ -1,4 +1,5 @@
 #include "block_preconditioner.h"
+#include "block_rebalancing.h"
 
 #include "block_relaxation.h"
 #include "cheap_simple.h"
@@ -179,9 +180,14 @@ namespace multigrid
       for (int l = 0; l < H.GetNumLevels() && l < static_cast<int>(info.levels.size()); ++l)
         {
           auto bA = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(H.GetLevel(l)->Get<RCP<Matrix>>("A"));
-          if (!bA.is_null())
-            for (std::size_t k = 0; k < bA->Rows(); ++k)
-              info.levels[l].block_rows.push_back(bA->getRangeMap(k)->getGlobalNumElements());
+          if (bA.is_null())
+            continue;
+          for (std::size_t k = 0; k < bA->Rows(); ++k)
+            info.levels[l].block_rows.push_back(bA->getRangeMap(k)->getGlobalNumElements());
+          // Coarse-level rebalancing moves a level onto fewer ranks: count those holding rows.
+          const int holds = bA->getRangeMap()->getNodeNumElements() > 0 ? 1 : 0;
+          Teuchos::reduceAll(*bA->getRangeMap()->getComm(), Teuchos::REDUCE_SUM, 1, &holds,
+                             &info.levels[l].ranks);
         }
     }
   } // namespace
@@ -354,6 +360,7 @@ namespace multigrid
         if (system.n_blocks() != 2)
           throw InputError("saddle-point AMG needs a 2 x 2 block system, got " +
                            std::to_string(system.n_blocks()) + " blocks");
+        rebalance_coarse_levels(muelu, options);
         auto H =
             with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu, options); });
         fill_levels(info_, level_sizes(*H));
@@ -364,8 +371,9 @@ namespace multigrid
     else if (preset.kind == "fully-coupled-amg")
       {
         check_fully_coupled(preset, system);
-        const auto muelu = fully_coupled_muelu_list(preset, system);
-        auto       H =
+        auto muelu = fully_coupled_muelu_list(preset, system);
+        rebalance_coarse_levels(muelu, options);
+        auto H =
             with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu, options); });
         const double growth =
             with_preset_context(preset.name, [&] { return check_level_smoother(*H, system, preset); });
@@ -390,11 +398,33 @@ namespace multigrid
     if (keep_aggregates && !hierarchy_.is_null())
       aggregates_ =
           with_preset_context(preset.name, [&] { return recorded_aggregates(*hierarchy_, system); });
-    transfers_kept_ = options.keep_transfers && (builds_blocked_hierarchy(preset) || preset.kind == "amg" ||
-                                                 preset.kind == "cheapsimple");
+    transfers_kept_ =
+        options.keep_transfers && !rebalanced_ &&
+        (builds_blocked_hierarchy(preset) || preset.kind == "amg" || preset.kind == "cheapsimple");
     if (transfers_kept_)
       for (std::size_t k = 0; k < system.n_blocks(); ++k)
         block_maps_.push_back(system.map_extractor()->getMap(k));
+  }
+
+  void BlockPreconditioner::rebalance_coarse_levels(Teuchos::ParameterList& muelu,
+                                                    const SetupOptions&     options)
+  {
+    const auto& p = preset_.parameters;
+    if (!p.isSublist("repartition") || !rebalance_settings(p.sublist("repartition"), preset_.name).enable)
+      return;
+    // The aggregate export composes the levels' aggregates through local ids, which only hold
+    // while a coarse node stays on the rank of its aggregate.
+    if (options.keep_aggregates)
+      throw InputError("preset '" + preset_.name +
+                       "': exporting aggregates needs 'repartition/enable' = false (a rebalanced "
+                       "level's nodes are no longer on the ranks of their aggregates)");
+    add_block_rebalancing(muelu, rebalance_settings(p.sublist("repartition"), preset_.name));
+    rebalanced_ = true;
+    info_.notes.push_back("coarse levels rebalanced by rank merging (repartition/enable)");
+    // Kept transfers would keep the rebalanced P and R but recompute the aggregates and
+    // importers beneath them: every Newton step builds the hierarchy afresh instead.
+    if (options.keep_transfers)
+      info_.notes.push_back("kept transfers not used with coarse-level rebalancing: fresh set-ups");
   }
 
   bool BlockPreconditioner::refresh(const BlockSystem& system)

@@ -28,6 +28,7 @@ namespace multigrid
     long long              rows     = 0;
     long long              nonzeros = 0;
     std::vector<long long> block_rows; ///< per block, for blocked hierarchies
+    int                    ranks = 0;  ///< ranks holding rows (blocked hierarchies; 0: not counted)
   };
 
   struct PreconditionerInfo
@@ -93,11 +94,16 @@ namespace multigrid
     const std::vector<FieldAggregates>& aggregates() const { return aggregates_; }
 
   private:
+    /// With the preset's "repartition/enable": adds the coarse-level rebalancing of
+    /// block_rebalancing.h to the blocked list `muelu`.
+    void rebalance_coarse_levels(Teuchos::ParameterList& muelu, const SetupOptions& options);
+
     RCP<Xpetra::Operator<SC, LO, GO, NO>> op_;
     RCP<MueLu::Hierarchy<SC, LO, GO, NO>> hierarchy_;
     RCP<CheapSimpleOperator>              cheap_simple_; ///< kind cheapsimple (also in op_)
     Preset                                preset_;
     bool                                  transfers_kept_ = false;
+    bool                                  rebalanced_     = false; ///< coarse levels rebalanced
     std::vector<RCP<const Map>>           block_maps_; ///< of the system the transfers were built for
     PreconditionerInfo                    info_;
     std::vector<FieldAggregates>          aggregates_;

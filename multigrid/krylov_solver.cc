@@ -192,6 +192,8 @@ namespace multigrid
                 << std::setw(12) << p.levels[l].nonzeros << "  ";
             for (std::size_t k = 0; k < p.levels[l].block_rows.size(); ++k)
               out << (k ? " + " : "") << p.levels[l].block_rows[k];
+            if (p.levels[l].ranks > 0)
+              out << "  (on " << p.levels[l].ranks << " of " << r.ranks << " ranks)";
             out << "\n";
           }
         out << "operator complexity " << std::fixed << std::setprecision(3) << p.operator_complexity << "\n";
@@ -245,7 +247,7 @@ namespace multigrid
           << ",\"block_rows\":[";
         for (std::size_t k = 0; k < p.levels[l].block_rows.size(); ++k)
           s << (k ? "," : "") << p.levels[l].block_rows[k];
-        s << "]}";
+        s << "],\"ranks\":" << p.levels[l].ranks << "}";
       }
     s << "],\"notes\":[";
     for (std::size_t i = 0; i < p.notes.size(); ++i)

@@ -1,5 +1,7 @@
 #include "presets.h"
 
+#include "block_rebalancing.h"
+
 #include <MueLu_MasterList.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
@@ -130,6 +132,18 @@ namespace multigrid
                          "', expected amg, saddle-point-amg, cheapsimple, direct, muelu, fully-coupled-amg or "
                          "block-relaxation");
       check_required_parameters(p, file);
+      // Coarse-level rebalancing of the blocked hierarchies (block_rebalancing.h), off unless
+      // asked for ("repartition/enable=true"); its defaults are written into the preset so that
+      // overrides find them and --print-parameters shows them.
+      if (p.kind == "saddle-point-amg" || p.kind == "fully-coupled-amg")
+        {
+          const RebalanceSettings defaults;
+          auto&                   r = p.parameters.sublist("repartition");
+          r.get("enable", defaults.enable);
+          r.get("start level", defaults.start_level);
+          r.get("min rows per proc", defaults.min_rows_per_proc);
+          r.get("max imbalance", defaults.max_imbalance);
+        }
       return p;
     }
 

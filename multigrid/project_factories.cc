@@ -1,6 +1,7 @@
 #include "project_factories.h"
 
 #include "aggregate_export.h"
+#include "block_rebalancing.h"
 
 #include "spai_factories.h"
 #include "spai_simple_smoother.h"
@@ -95,6 +96,10 @@ namespace multigrid
         list->set<RCP<const FactoryBase>>("P", Teuchos::null,
                                           "Generating factory of the tentative prolongator (default: the "
                                           "level's \"Ptent\")");
+        list->set<std::string>("importer key", "",
+                               "With coarse-level rebalancing (block_rebalancing.h): the name the "
+                               "primal block's Importer is registered as; the coarse labels move "
+                               "with the rows");
         return list;
       }
 
@@ -105,6 +110,8 @@ namespace multigrid
         else
           fine.DeclareInput("segregation labels", this, this);
         coarse.DeclareInput("P", tentative_prolongator(coarse).get(), this);
+        if (auto importer = importer_factory(); !importer.is_null())
+          coarse.DeclareInput("Importer", importer.get(), this);
       }
 
       void Build(Level& fine, Level& coarse) const override
@@ -138,10 +145,40 @@ namespace multigrid
         auto data = coarse_labels->getDataNonConst(0);
         for (auto& v : data)
           v = std::max(v - 1.0, 0.0); // a coarse DOF no row reaches (none in practice): label 0
-        Set(coarse, "segregation labels", coarse_labels);
+        Set(coarse, "segregation labels", rebalanced(coarse, coarse_labels));
       }
 
+      void set_late_factories(std::shared_ptr<const LateFactories> late) { late_ = std::move(late); }
+
     private:
+      std::shared_ptr<const LateFactories> late_;
+
+      RCP<const FactoryBase> importer_factory() const
+      {
+        const auto& key = GetParameterList().get<std::string>("importer key");
+        if (key.empty())
+          return Teuchos::null;
+        const auto found = late_ ? late_->find(key) : LateFactories::const_iterator();
+        TEUCHOS_TEST_FOR_EXCEPTION(!late_ || found == late_->end(), MueLu::Exceptions::RuntimeError,
+                                   "SegregationLabelTransferFactory: no factory registered as '" << key
+                                                                                                 << "'");
+        return found->second;
+      }
+
+      /// The labels on the rebalanced rows of the coarse level (unchanged where it is not rebalanced).
+      RCP<MultiVector> rebalanced(Level& coarse, const RCP<MultiVector>& labels) const
+      {
+        const auto factory = importer_factory();
+        if (factory.is_null())
+          return labels;
+        const auto importer = coarse.Get<RCP<const Xpetra::Import<LO, GO, NO>>>("Importer", factory.get());
+        if (importer.is_null())
+          return labels;
+        auto moved = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(importer->getTargetMap(), 1);
+        moved->doImport(*labels, *importer, Xpetra::INSERT);
+        return moved;
+      }
+
       /// As MapTransferFactory: "P" if given, else the coarse level's "Ptent" (Ptent00 in the presets).
       RCP<const FactoryBase> tentative_prolongator(Level& coarse) const
       {
@@ -472,8 +509,21 @@ namespace multigrid
 
     if (name == "LevelSegregatedAFactory")
       return this->template Build2<LevelSegregatedAFactory>(list, factories, managers);
+    // An entry others find by name when the hierarchy is set up (LateFactories).
+    if (list.isType<std::string>("register as"))
+      {
+        const std::string as = list.get<std::string>("register as");
+        list.remove("register as");
+        const auto built = BuildFactory(Teuchos::ParameterEntry(list), factories, managers);
+        (*late_)[as]     = built;
+        return built;
+      }
     if (name == "SegregationLabelTransferFactory")
-      return this->template Build2<SegregationLabelTransferFactory>(list, factories, managers);
+      {
+        auto built = this->template Build2<SegregationLabelTransferFactory>(list, factories, managers);
+        built->set_late_factories(late_);
+        return built;
+      }
     if (name == "NodeInterfaceAggregationFactory")
       return this->template Build2<NodeInterfaceAggregationFactory>(list, factories, managers);
     if (name == "AggregateRecordFactory")
@@ -490,6 +540,8 @@ namespace multigrid
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (auto spai = build_spai_factory(name, list, factories); !spai.is_null())
       return spai;
+    if (auto rebalancing = build_rebalancing_factory(name, list, factories, late_); !rebalancing.is_null())
+      return rebalancing;
     return Base::BuildFactory(param, factories, managers);
   }
 } // namespace multigrid

@@ -23,6 +23,7 @@
 #include <MueLu_SmootherBase.hpp>
 
 #include <map>
+#include <memory>
 #include <string>
 
 namespace multigrid
@@ -41,6 +42,12 @@ namespace multigrid
   using FactoryMap        = std::map<std::string, RCP<const MueLu::FactoryBase>>;
   using FactoryManagerMap = std::map<std::string, RCP<MueLu::FactoryManagerBase>>;
 
+  /// Factories a list entry registered under a name ("register as" NAME in its sublist), for
+  /// entries defined before it that need it on coarse levels (block_rebalancing.h: the
+  /// segregation labels and the interface map follow the Importers of the rebalanced Galerkin
+  /// product, which the list defines after them). Looked up when the hierarchy is set up.
+  using LateFactories = std::map<std::string, RCP<const MueLu::FactoryBase>>;
+
   class ProjectFactoryFactory : public MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>
   {
     using Base = MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>;
@@ -49,5 +56,8 @@ namespace multigrid
     RCP<const MueLu::FactoryBase> BuildFactory(const Teuchos::ParameterEntry&        param,
                                                const ::multigrid::FactoryMap&        factories,
                                                const ::multigrid::FactoryManagerMap& managers) const override;
+
+  private:
+    std::shared_ptr<LateFactories> late_ = std::make_shared<LateFactories>();
   };
 } // namespace multigrid
