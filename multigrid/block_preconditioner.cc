@@ -174,6 +174,24 @@ namespace multigrid
       return H;
     }
 
+    /// The Schur-complement block template (beam/solid presets) aggregates every block on its own
+    /// diagonal block; an empty one (the multipliers of a contact or mesh-tying system) would
+    /// reach MueLu's graph construction as a null matrix and crash it.
+    void check_diagonal_blocks(const Preset& preset, const BlockSystem& system)
+    {
+      const auto& p = preset.parameters;
+      if (p.get<std::string>("template") != "schur_block_amg.xml.in")
+        return;
+      auto A = system.blocked_matrix();
+      for (std::size_t k = 0; k < system.n_blocks(); ++k)
+        if (A->getMatrix(k, k).is_null() || A->getMatrix(k, k)->getGlobalNumEntries() == 0)
+          throw InputError("preset '" + preset.name +
+                           "' aggregates every block on its own diagonal block, and block '" +
+                           system.block(k).name +
+                           "' of this system has none (a saddle-point system: use a saddle-point preset, "
+                           "e.g. fully-coupled-sa-amg(simple))");
+    }
+
     /// Every level's rows per block (blocked hierarchies).
     void fill_block_rows(PreconditionerInfo& info, Hierarchy& H)
     {
@@ -341,6 +359,7 @@ namespace multigrid
         Teuchos::ParameterList muelu;
         if (preset.kind == "saddle-point-amg")
           {
+            check_diagonal_blocks(preset, system);
             const std::string xml =
                 expand_template(preset, system.block(0).dofs_per_node,
                                 system.n_blocks() > 1 ? system.block(1).dofs_per_node : 1);

@@ -12,6 +12,7 @@
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_Import.hpp>
+#include <Xpetra_MatrixFactory.hpp>
 #include <Xpetra_StridedMap.hpp>
 #include <Xpetra_VectorFactory.hpp>
 
@@ -37,6 +38,7 @@ namespace multigrid
     const std::string importer_prefix   = "RebalanceImporter";
     const std::string group_prefix      = "RebalanceGroup";
     const std::string rebalanced_a_name = "RebalancedA";
+    const std::string completed_name    = "RebalanceCompletedA";
     /// The name block k's Importer is registered as (project_factories.h, LateFactories):
     /// factories defined before the Galerkin product (the segregation labels, the interface map)
     /// find it when the hierarchy is set up (naming it in the list would be a definition cycle:
@@ -216,6 +218,59 @@ namespace multigrid
       }
     };
 
+    /// The unbalanced blocked coarse operator with an empty matrix (of the block's strided maps)
+    /// wherever a diagonal block is missing: the Galerkin product drops an all-zero block (the
+    /// multipliers' C of mesh tying or of an all-active contact set), and MueLu's
+    /// RebalanceBlockAcFactory builds the rebalanced block maps from the diagonal blocks only.
+    class CompletedDiagonalFactory : public MueLu::SingleLevelFactoryBase
+    {
+    public:
+      RCP<const List> GetValidParameterList() const override
+      {
+        auto list = Teuchos::rcp(new List());
+        list->set<RCP<const FactoryBase>>("A", Teuchos::null, "Generating factory of the blocked operator");
+        return list;
+      }
+
+      void DeclareInput(Level& level) const override { Input(level, "A"); }
+
+      void Build(Level& level) const override
+      {
+        MueLu::FactoryMonitor monitor(*this, "Empty diagonal blocks for rebalancing", level);
+        const RCP<Matrix>     A       = Get<RCP<Matrix>>(level, "A");
+        auto                  blocked = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(A);
+        TEUCHOS_TEST_FOR_EXCEPTION(blocked.is_null(), MueLu::Exceptions::RuntimeError,
+                                   "CompletedDiagonalFactory: the operator of level " << level.GetLevelID()
+                                                                                      << " is not blocked");
+        bool complete = true;
+        for (std::size_t k = 0; k < blocked->Rows(); ++k)
+          complete = complete && !blocked->getMatrix(k, k).is_null();
+        if (complete)
+          {
+            Set(level, "A", A);
+            return;
+          }
+        auto range  = blocked->getRangeMapExtractor();
+        auto domain = blocked->getDomainMapExtractor();
+        auto filled = Teuchos::rcp(new BlockedCrsMatrix(range, domain, 0));
+        for (std::size_t i = 0; i < blocked->Rows(); ++i)
+          for (std::size_t j = 0; j < blocked->Cols(); ++j)
+            {
+              RCP<Matrix> block = blocked->getMatrix(i, j);
+              if (block.is_null() && i == j)
+                {
+                  block =
+                      Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(range->getMap(i), domain->getMap(j), 0);
+                  block->fillComplete(domain->getMap(j), range->getMap(i));
+                }
+              if (!block.is_null())
+                filled->setMatrix(i, j, block);
+            }
+        filled->fillComplete();
+        Set(level, "A", Teuchos::rcp_dynamic_cast<Matrix>(filled));
+      }
+    };
+
     List& factory(List& factories, const std::string& name, const std::string& type)
     {
       List& f = factories.sublist(name);
@@ -306,12 +361,14 @@ namespace multigrid
     heuristic.set("repartition: min rows per proc", settings.min_rows_per_proc);
     heuristic.set("repartition: max imbalance", settings.max_imbalance);
 
+    factory(f, completed_name, "CompletedDiagonalFactory").set("A", rap);
     // MueLu builds the list in order: a name must be defined before an entry uses it.
     for (std::size_t k = 0; k < groups.size(); ++k)
       {
         const std::string s   = std::to_string(k);
-        List&             sub = factory(f, sub_a_prefix + s, "SubBlockAFactory");
-        sub.set("A", rap);
+        // Only the block's rows matter to the partition: its maps, without a copy of its entries.
+        List& sub = factory(f, sub_a_prefix + s, "ZeroSubBlockAFactory");
+        sub.set("A", completed_name);
         sub.set("block row", static_cast<int>(k));
         sub.set("block col", static_cast<int>(k));
         List& partition = factory(f, partition_prefix + s, "RankMergePartitionFactory");
@@ -341,7 +398,7 @@ namespace multigrid
     rebalanced_p.set("P", P);
     rebalanced_p.set("A", rap);
     rebalanced_r.set("R", R);
-    rebalanced_a.set("A", rap);
+    rebalanced_a.set("A", completed_name);
     for (List* r : {&rebalanced_p, &rebalanced_r, &rebalanced_a})
       r->set("repartition: use subcommunicators", false);
     rebalance_interface_data(f);
@@ -364,6 +421,8 @@ namespace multigrid
     RCP<MueLu::Factory> built;
     if (name == "RankMergePartitionFactory")
       built = Teuchos::rcp(new RankMergePartitionFactory());
+    else if (name == "CompletedDiagonalFactory")
+      built = Teuchos::rcp(new CompletedDiagonalFactory());
     else if (name == "RebalancedInterfaceMappingFactory")
       {
         auto mapping = Teuchos::rcp(new RebalancedInterfaceMappingFactory());

@@ -297,7 +297,7 @@ def aggregates(args):
         return
     # The hierarchy's block rows per level: "  1   412   11938  276 + 136".
     rows = {int(m.group(1)): (int(m.group(2)), int(m.group(3)))
-            for m in re.finditer(r"^\s+(\d+)\s+\d+\s+\d+\s+(\d+) \+ (\d+)$", proc.stdout, re.M)}
+            for m in re.finditer(r"^\s+(\d+)\s+\d+\s+\d+\s+(\d+) \+ (\d+)(?:  \(on \d+ of \d+ ranks\))?$", proc.stdout, re.M)}
     check(len(rows) >= 2, f"solve_block_system: expected a coarse level in the report, got {rows}")
     check(len(re.findall(r"level \d: 0 primal aggregates contain nodes of two bodies", proc.stdout)) == len(rows) - 1,
           f"solve_block_system: not every level reports 0 aggregates across bodies:\n{proc.stdout}")

@@ -67,6 +67,16 @@ namespace physics
     return *this;
   }
 
+  JsonLinesLog::Line& JsonLinesLog::Line::add(const std::string& k, const std::vector<long long>& values)
+  {
+    key(k);
+    body_ += "[";
+    for (std::size_t i = 0; i < values.size(); ++i)
+      body_ += (i ? "," : "") + std::to_string(values[i]);
+    body_ += "]";
+    return *this;
+  }
+
   JsonLinesLog::Line& JsonLinesLog::Line::add(const std::string& k, bool value)
   {
     key(k);

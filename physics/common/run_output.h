@@ -43,6 +43,7 @@ namespace physics
       Line& add(const std::string& key, int value) { return add(key, static_cast<long long>(value)); }
       Line& add(const std::string& key, bool value);
       Line& add(const std::string& key, const std::string& value);
+      Line&       add(const std::string& key, const std::vector<long long>& values); ///< a JSON array
       std::string str() const { return "{" + body_ + "}"; }
 
     private:

@@ -252,6 +252,16 @@ namespace physics
         .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
         .add("global_size", static_cast<long long>(report.global_size))
         .add("operator_complexity", report.preconditioner.operator_complexity).add("peak_memory_mb", peak_mb);
+    // The AMG levels: rows, and (blocked hierarchies) on how many ranks each lives, which
+    // coarse-level rebalancing ("repartition/enable") changes.
+    std::vector<long long> rows, ranks;
+    for (const auto& level : report.preconditioner.levels)
+      {
+        rows.push_back(level.rows);
+        ranks.push_back(level.ranks);
+      }
+    if (!rows.empty())
+      line.add("level_rows", rows).add("level_ranks", ranks);
     console << std::setw(7) << report.iterations << std::fixed << std::setprecision(2) << std::setw(9)
             << report.preconditioner.setup_seconds << std::setw(9) << report.solve_seconds << std::defaultfloat
             << (report.converged ? "" : "  (GMRES not converged)") << "\n";
