@@ -1,6 +1,7 @@
 #include "block_rebalancing.h"
 
 #include "hierarchy_utils.h"
+#include "project_factories.h"
 
 #include <MueLu_Exceptions.hpp>
 #include <MueLu_Factory.hpp>
@@ -130,18 +131,17 @@ namespace multigrid
       void DeclareInput(Level& fine, Level& coarse) const override
       {
         Input(fine, "CoarseDualNodeID2PrimalNodeID");
-        coarse.DeclareInput("A", unbalanced_operator(coarse).get(), this);
+        coarse.DeclareInput("A", unbalanced_operator().get(), this);
         for (std::size_t k = 0; k < 2; ++k)
-          coarse.DeclareInput("Importer", importer_factory(coarse, k).get(), this);
+          coarse.DeclareInput("Importer", importer_factory(k).get(), this);
       }
 
       void Build(Level& fine, Level& coarse) const override
       {
         MueLu::FactoryMonitor monitor(*this, "Multiplier-to-slave map of the rebalanced level", coarse);
         auto map = Get<RCP<DualToPrimal>>(fine, "CoarseDualNodeID2PrimalNodeID");
-        const RCP<const Import> primal =
-            coarse.Get<RCP<const Import>>("Importer", importer_factory(coarse, 0).get());
-        const RCP<const Import> dual = coarse.Get<RCP<const Import>>("Importer", importer_factory(coarse, 1).get());
+        const RCP<const Import> primal = coarse.Get<RCP<const Import>>("Importer", importer_factory(0).get());
+        const RCP<const Import> dual   = coarse.Get<RCP<const Import>>("Importer", importer_factory(1).get());
         TEUCHOS_TEST_FOR_EXCEPTION(primal.is_null() != dual.is_null(), MueLu::Exceptions::RuntimeError,
                                    "RebalancedInterfaceMappingFactory: one block rebalanced, the other not, "
                                    "on level " << coarse.GetLevelID());
@@ -194,20 +194,17 @@ namespace multigrid
 
       RCP<const FactoryBase> registered(const std::string& name) const
       {
-        const auto found = late_ ? late_->find(name) : Late::const_iterator();
-        TEUCHOS_TEST_FOR_EXCEPTION(!late_ || found == late_->end(), MueLu::Exceptions::RuntimeError,
-                                   "RebalancedInterfaceMappingFactory: no factory registered as '" << name << "'");
-        return found->second;
+        return registered_factory(late_, name, "RebalancedInterfaceMappingFactory");
       }
-      RCP<const FactoryBase> importer_factory(Level&, std::size_t k) const { return registered(importer_key(k)); }
-      RCP<const FactoryBase> unbalanced_operator(Level&) const { return registered(unbalanced_key); }
+      RCP<const FactoryBase> importer_factory(std::size_t k) const { return registered(importer_key(k)); }
+      RCP<const FactoryBase> unbalanced_operator() const { return registered(unbalanced_key); }
 
       /// DOFs per coarse primal node: the striding of block 0 of the unbalanced coarse operator
       /// (the primal block's nullspace dimension, set by the coarse map factory).
       int primal_dofs_per_node(Level& coarse) const
       {
         auto blocked = Teuchos::rcp_dynamic_cast<BlockedCrsMatrix>(
-            coarse.Get<RCP<Matrix>>("A", unbalanced_operator(coarse).get()));
+            coarse.Get<RCP<Matrix>>("A", unbalanced_operator().get()));
         TEUCHOS_TEST_FOR_EXCEPTION(blocked.is_null(), MueLu::Exceptions::RuntimeError,
                                    "RebalancedInterfaceMappingFactory: the coarse operator is not blocked");
         auto strided = Teuchos::rcp_dynamic_cast<const StridedMap>(blocked->getRangeMapExtractor()->getMap(0));

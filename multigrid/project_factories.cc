@@ -158,11 +158,7 @@ namespace multigrid
         const auto& key = GetParameterList().get<std::string>("importer key");
         if (key.empty())
           return Teuchos::null;
-        const auto found = late_ ? late_->find(key) : LateFactories::const_iterator();
-        TEUCHOS_TEST_FOR_EXCEPTION(!late_ || found == late_->end(), MueLu::Exceptions::RuntimeError,
-                                   "SegregationLabelTransferFactory: no factory registered as '" << key
-                                                                                                 << "'");
-        return found->second;
+        return registered_factory(late_, key, "SegregationLabelTransferFactory");
       }
 
       /// The labels on the rebalanced rows of the coarse level (unchanged where it is not rebalanced).
@@ -490,6 +486,15 @@ namespace multigrid
     for (decltype(data.size()) i = 0; i < data.size(); ++i)
       data[i] = set.isNodeGlobalElement(A.getRowMap()->getGlobalElement(i)) ? 1.0 : 0.0;
     return segregated_matrix(A, *labels);
+  }
+
+  RCP<const MueLu::FactoryBase> registered_factory(const std::shared_ptr<const LateFactories>& late,
+                                                   const std::string& name, const std::string& who)
+  {
+    const auto found = late ? late->find(name) : LateFactories::const_iterator();
+    TEUCHOS_TEST_FOR_EXCEPTION(!late || found == late->end(), MueLu::Exceptions::RuntimeError,
+                               who << ": no factory registered as '" << name << "'");
+    return found->second;
   }
 
   RCP<const MueLu::FactoryBase>

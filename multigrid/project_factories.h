@@ -48,6 +48,10 @@ namespace multigrid
   /// product, which the list defines after them). Looked up when the hierarchy is set up.
   using LateFactories = std::map<std::string, RCP<const MueLu::FactoryBase>>;
 
+  /// The factory registered as `name` in `late`; throws (naming `who`) if there is none.
+  RCP<const MueLu::FactoryBase> registered_factory(const std::shared_ptr<const LateFactories>& late,
+                                                   const std::string& name, const std::string& who);
+
   class ProjectFactoryFactory : public MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>
   {
     using Base = MueLu::FactoryFactory<double, int, long long, ::multigrid::NO>;
