@@ -6,6 +6,7 @@
 // bottom), 2 master face (lower top), 3 clamped (lower bottom), 4 loaded (upper top).
 Geometry.AutoCoherence = 0; // keep coincident points of the two bodies apart
 DefineConstant[ refine = 1 ];
+DefineConstant[ prescribed_sides = 0 ]; // 1: the upper block's sides move with its top face
 nl = 10 * refine; hl = 5 * refine;   // lower block elements (x, y)
 nu = 7 * refine;  hu = 4 * refine;   // upper block elements (x, y)
 
@@ -25,4 +26,9 @@ Physical Surface("slave_body", 2) = {2};
 Physical Curve("slave", 1) = {5};
 Physical Curve("master", 2) = {3};
 Physical Curve("clamped", 3) = {1};
-Physical Curve("loaded", 4) = {7};
+If (prescribed_sides)
+  // The slave surface's end nodes then have every component prescribed (tests of that case).
+  Physical Curve("loaded", 4) = {6, 7, 8};
+Else
+  Physical Curve("loaded", 4) = {7};
+EndIf

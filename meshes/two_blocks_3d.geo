@@ -7,6 +7,7 @@
 // bottom), 2 master face (lower top), 3 clamped (lower bottom), 4 loaded (upper top).
 Geometry.AutoCoherence = 0; // keep coincident points of the two bodies apart
 DefineConstant[ refine = 1 ];
+DefineConstant[ prescribed_sides = 0 ]; // 1: the upper block's sides move with its top face
 nl = 10 * refine; hl = 5 * refine;
 nu = 7 * refine;  hu = 4 * refine;
 
@@ -27,4 +28,9 @@ Physical Volume("slave_body", 2) = {upper[1]};
 Physical Surface("slave", 1) = {101};
 Physical Surface("master", 2) = {lower[0]};
 Physical Surface("clamped", 3) = {1};
-Physical Surface("loaded", 4) = {upper[0]};
+If (prescribed_sides)
+  // The slave face's edge nodes then have every component prescribed (tests of that case).
+  Physical Surface("loaded", 4) = {upper[0], upper[2], upper[3], upper[4], upper[5]};
+Else
+  Physical Surface("loaded", 4) = {upper[0]};
+EndIf

@@ -164,7 +164,10 @@ namespace multigrid
           auto data = slave->getDataNonConst(0);
           for (const auto& [dual_node, primal_node] : *map)
             for (int k = 0; k < dual_dpn; ++k)
-              data[dual_node * dual_dpn + k] = primal->getSourceMap()->getGlobalElement(primal_node * primal_dpn);
+              data[dual_node * dual_dpn + k] =
+                  primal_node == no_primal_node
+                      ? GO(-1)
+                      : primal->getSourceMap()->getGlobalElement(primal_node * primal_dpn);
         }
         auto moved = Xpetra::VectorFactory<GO, LO, GO, NO>::Build(dual->getTargetMap(), false);
         moved->doImport(*slave, *dual, Xpetra::INSERT);
@@ -175,7 +178,12 @@ namespace multigrid
         for (LO node = 0; node * dual_dpn < static_cast<LO>(data.size()); ++node)
           {
             const GO slave_dof = data[node * dual_dpn];
-            const LO local     = target->getLocalElement(slave_dof);
+            if (slave_dof < 0)
+              {
+                (*rebuilt)[node] = no_primal_node;
+                continue;
+              }
+            const LO local = target->getLocalElement(slave_dof);
             TEUCHOS_TEST_FOR_EXCEPTION(local == Teuchos::OrdinalTraits<LO>::invalid() || local % primal_dpn != 0,
                                        MueLu::Exceptions::RuntimeError,
                                        "RebalancedInterfaceMappingFactory: multiplier node "

@@ -39,6 +39,13 @@ namespace multigrid
   /// hierarchy built from a simple parameter list (where preset XML cannot name it).
   RCP<MueLu::SmootherBase<SC, LO, GO, NO>> superlu_coarse_solver(const RCP<Matrix>& A);
 
+  /// In a multiplier-to-slave node map ("DualNodeID2PrimalNodeID" of the coarse levels): a
+  /// multiplier node whose slave node has every displacement component prescribed. MueLu leaves
+  /// such Dirichlet nodes out of the primal aggregates; the multiplier still acts on the master
+  /// side (M^T lambda), so NodeInterfaceAggregationFactory keeps it as a one-node aggregate on
+  /// every level, mapped to no primal node.
+  constexpr LO no_primal_node = -1;
+
   using FactoryMap        = std::map<std::string, RCP<const MueLu::FactoryBase>>;
   using FactoryManagerMap = std::map<std::string, RCP<MueLu::FactoryManagerBase>>;
 

@@ -94,6 +94,12 @@ namespace physics::contact
     prm.declare_entry("Tangential complementarity factor", "1", Double(),
                       "c_t = factor * E / h in the frictional complementarity function (> 0; steers the "
                       "stick/slip decision of the Newton iterates, not the solution).");
+    prm.declare_entry("Prescribed slave nodes", "contact", Selection("contact|no contact"),
+                      "Slave nodes whose every displacement component is prescribed (a contact surface that "
+                      "meets a clamped or loaded face). contact: they carry a multiplier like any slave node "
+                      "(it pushes on the master side); no contact: they never enter the active set (lambda = "
+                      "0), which removes the clash of the two conditions at such a node. With standard "
+                      "multipliers the active set can cycle at these nodes under 'contact'.");
     prm.declare_entry("Contact surface ids", "", Anything(),
                       "Multi-body contact: comma-separated boundary ids of the contact surfaces; every face with "
                       "one of them belongs to the body (material id, i.e. gmsh physical surface/volume) of its "
@@ -261,6 +267,7 @@ namespace physics::contact
                                   prm.get("Friction coefficient"));
     tangential_factor = positive(prm.get_double("Tangential complementarity factor"),
                                  "Tangential complementarity factor");
+    prescribed_slave_contact = prm.get("Prescribed slave nodes") == "contact";
     surface_ids = boundary_ids(prm.get("Contact surface ids"), "Contact surface ids");
     watch_ids   = boundary_ids(prm.get("Self-contact check ids"), "Self-contact check ids");
     pairs       = contact_pairs(prm.get("Pairs"));

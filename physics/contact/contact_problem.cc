@@ -152,6 +152,7 @@ namespace physics::contact
       settings.dual                 = p_.dual;
       settings.search_radius_factor = p_.search_radius_factor;
       settings.friction_coefficient = p_.friction_coefficient;
+      settings.prescribed_nodes_contact = p_.prescribed_slave_contact;
       settings.surface_boundaries.assign(p_.surface_ids.begin(), p_.surface_ids.end());
       settings.watch_boundaries.assign(p_.watch_ids.begin(), p_.watch_ids.end());
       for (const auto& [slave, master] : p_.pairs)

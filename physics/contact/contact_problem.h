@@ -50,6 +50,7 @@ namespace physics::contact
     double search_radius_factor   = 1.0;
     double friction_coefficient   = 0.0; ///< Coulomb's mu (0: frictionless)
     double tangential_factor      = 1.0; ///< c_t = factor * E / h
+    bool   prescribed_slave_contact = true; ///< fully prescribed slave nodes may enter the active set
     // Multi-body contact (empty surface_ids: the two-body mode of slave_id / master_id)
     std::vector<int>                 surface_ids; ///< contact surface boundary ids (bodies = material ids)
     std::vector<std::pair<int, int>> pairs;       ///< (slave body, master body); empty: automatic
@@ -86,7 +87,8 @@ namespace physics::contact
     double                             displacement_l2 = 0;  ///< ||u|| (global vector norm)
     long long slave_nodes          = 0; ///< all ranks
     long long max_slave_nodes_held = 0; ///< the most slave nodes one rank holds (own + ghost faces)
-    /// Largest penetration max(0, -g~_j / w_j) over the covered slave nodes of all converged steps.
+    /// Largest penetration max(0, -g~_j / w_j) over the covered slave nodes of all converged steps
+    /// (without the released prescribed ones, "Contact/Prescribed slave nodes = no contact").
     double max_penetration = 0;
     // Dynamics: after each time step (index 0: the initial state); the potential of the body force
     // (gravity), and the energy dissipated by friction up to that step (sum over the steps and

@@ -91,7 +91,8 @@ namespace physics::contact::internal
     const auto&            state = contact_->state();
     std::pair<double, int> deepest(-std::numeric_limits<double>::infinity(), -1);
     for (unsigned int j = 0; j < state.weight.size(); ++j)
-      if (contact_->owns_slave_node(j) && state.covered[j] && -state.weighted_gap[j] / state.weight[j] > deepest.first)
+      if (contact_->owns_slave_node(j) && state.covered[j] && !state.released[j] &&
+          -state.weighted_gap[j] / state.weight[j] > deepest.first)
         deepest = {-state.weighted_gap[j] / state.weight[j], static_cast<int>(j)};
     return deepest;
   }
@@ -122,7 +123,8 @@ namespace physics::contact::internal
   template <int dim>
   void ContactProblem<dim>::check_converged_contact(int number, double time)
   {
-    // The last evaluation is the converged state's: its largest penetration, and (2D)
+    // The last evaluation is the converged state's: its largest penetration (of the nodes under
+    // a contact constraint: a released prescribed node goes where its Dirichlet value puts it), and (2D)
     // self-contact, which the mortar pairs do not handle: stop rather than let it pass.
     const double penetration = Utilities::MPI::max(std::max(0.0, deepest_local_penetration().first), comm_);
     summary_.max_penetration = std::max(summary_.max_penetration, penetration);

@@ -40,6 +40,12 @@ namespace physics::contact
       return r;
     }
 
+    /// Every displacement component of the node is prescribed (a Dirichlet node).
+    template <int dim>
+    bool prescribed(const SurfaceNode<dim>& node, const std::function<bool(global_dof_index)>& is_constrained)
+    {
+      return std::all_of(node.dofs.begin(), node.dofs.end(), is_constrained);
+    }
   } // namespace
 
   template <int dim>
@@ -196,6 +202,7 @@ namespace physics::contact
     const std::vector<double> total = sum_over_ranks(partial, n_vectors);
     state_.active.assign(S, false);
     state_.covered.assign(S, false);
+    state_.released.assign(S, false);
     state_.weighted_gap.assign(S, 0.0);
     state_.weight.assign(S, 0.0);
     state_.normal_pressure.assign(S, 0.0);
@@ -255,7 +262,11 @@ namespace physics::contact
         // Semi-smooth Newton: active where lambda_n - c_n g > 0. Before the first solve (lambda = 0)
         // this would leave touching bodies unsupported, so the first evaluation takes the
         // geometric guess: nodes that touch or penetrate start active.
-        if (first_evaluation_)
+        state_.released[j] =
+            !settings_.prescribed_nodes_contact && prescribed(slave_nodes_[j], is_constrained);
+        if (state_.released[j])
+          state_.active[j] = false;
+        else if (first_evaluation_)
           state_.active[j] = state_.covered[j] && g / w <= 1e-8 * minimal_slave_face_size();
         else
           state_.active[j] = state_.covered[j] && ln - settings_.complementarity_parameter * g / w > 0.0;

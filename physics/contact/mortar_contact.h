@@ -88,6 +88,9 @@ namespace physics::contact
     std::vector<dealii::types::boundary_id> watch_boundaries;
     double friction_coefficient = 0.0; ///< Coulomb's mu (0: frictionless)
     double tangential_parameter = 1.0; ///< c_t of the frictional complementarity function
+    /// false: slave nodes whose every DOF is constrained never enter the active set (4C's
+    /// "RemoveDBCSlaveNodes"); true: they are slave nodes like the others.
+    bool prescribed_nodes_contact = true;
   };
 
   /// One contact-surface node (a mesh vertex with dim displacement DOFs).
@@ -128,6 +131,7 @@ namespace physics::contact
   {
     std::vector<bool>   active;
     std::vector<bool>   covered;        ///< has a master face underneath (w_j > 0)
+    std::vector<bool>   released;       ///< fully prescribed, kept out of contact (no constraint)
     std::vector<double> weighted_gap;   ///< g~_j
     std::vector<double> weight;         ///< w_j = sum_k D_jk
     std::vector<double> normal_pressure;///< lambda_n,j
