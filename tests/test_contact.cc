@@ -152,49 +152,81 @@ TEST(MultiBodyContact, PairWithUnknownBodyIsRejected)
 // The self-contact check with a distributed slave side: two crossing faces of one body owned by
 // different ranks (on one rank: both on it) are found on every rank; faces whose boxes do not meet
 // are not sent, and a body's faces that only touch at a shared node do not count.
+template <int dim>
+std::string check_self_crossing(const std::vector<BodyFacet<dim>>& own)
+{
+  auto facets = exchange_nearby_facets(own, MPI_COMM_WORLD);
+  facets.insert(facets.end(), own.begin(), own.end());
+  return physics::lowest_rank_message(find_self_crossing(facets), MPI_COMM_WORLD);
+}
+
+/// `first` on rank 0, `second` on the last rank (one rank: both).
+template <int dim>
+std::vector<BodyFacet<dim>> split_over_ranks(const BodyFacet<dim>& first, const BodyFacet<dim>& second)
+{
+  const unsigned int          rank = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+  const unsigned int          size = dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
+  std::vector<BodyFacet<dim>> own;
+  if (rank == 0)
+    own.push_back(first);
+  if (rank == size - 1)
+    own.push_back(second);
+  return own;
+}
+
 TEST(SelfContact, CrossingFacesOnDifferentRanksAreFound)
 {
-  const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
-  const unsigned int size = dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
-  auto segment = [](dealii::types::global_dof_index a, dealii::types::global_dof_index b, double x0, double y0,
-                    double x1, double y1) {
-    BodySegment s;
-    s.body = 0;
-    s.node = {{a, b}};
-    s.x    = {{{{x0, y0}}, {{x1, y1}}}};
+  auto segment = [](dealii::types::global_dof_index a, dealii::types::global_dof_index b, double x0,
+                    double y0, double x1, double y1) {
+    BodyFacet<2> s;
+    s.node = {a, b};
+    s.x    = {{{x0, y0}}, {{x1, y1}}};
     return s;
   };
-  auto check = [&](const std::vector<BodySegment>& own) {
-    auto segments = exchange_nearby_segments(own, MPI_COMM_WORLD);
-    segments.insert(segments.end(), own.begin(), own.end());
-    return physics::lowest_rank_message(find_self_crossing(segments), MPI_COMM_WORLD);
-  };
-  const BodySegment a = segment(0, 2, 0, 0, 1, 1), b = segment(4, 6, 0, 1, 1, 0), far = segment(4, 6, 5, 5, 6, 6),
-                    touching = segment(2, 6, 1, 1, 2, 0);
-  // Rank 0 owns a, the last rank b (one rank: both).
-  std::vector<BodySegment> own;
-  if (rank == 0)
-    own.push_back(a);
-  if (rank == size - 1)
-    own.push_back(b);
-  const std::string found = check(own);
+  const BodyFacet<2> a = segment(0, 2, 0, 0, 1, 1), b = segment(4, 6, 0, 1, 1, 0),
+                     far = segment(4, 6, 5, 5, 6, 6), touching = segment(2, 6, 1, 1, 2, 0);
+  const std::string found = check_self_crossing(split_over_ranks(a, b));
   EXPECT_NE(found.find("body 0 penetrates itself near (0.5, 0.5)"), std::string::npos) << "'" << found << "'";
+  EXPECT_EQ(check_self_crossing(split_over_ranks(a, far)), "");
+  EXPECT_TRUE(exchange_nearby_facets(split_over_ranks(a, far), MPI_COMM_WORLD).empty())
+      << "a far face's box meets nobody's";
+  EXPECT_EQ(check_self_crossing(split_over_ranks(a, touching)), "");
+}
 
-  own.clear();
-  if (rank == 0)
-    own.push_back(a);
-  if (rank == size - 1)
-    own.push_back(far);
-  EXPECT_EQ(check(own), "");
-  const auto received = exchange_nearby_segments(own, MPI_COMM_WORLD);
-  EXPECT_TRUE(received.empty()) << "a far face's box meets nobody's";
+// 3D: a quadrilateral face of one body that another face of the body passes through (one of its
+// edges pierces the quadrilateral, also across the diagonal the check splits it along) is found;
+// parallel faces one above the other, a face that only reaches the quadrilateral's plane, the
+// same face of another body, and a face sharing a node do not count.
+TEST(SelfContact, AFacePassingThroughAnotherIsFoundIn3D)
+{
+  auto face = [](std::vector<dealii::types::global_dof_index> nodes, std::vector<std::array<double, 3>> x,
+                 unsigned int body = 0) {
+    BodyFacet<3> f;
+    f.body = body;
+    f.node = std::move(nodes);
+    f.x    = std::move(x);
+    return f;
+  };
+  // The unit square in z = 0, vertices in order around it.
+  const auto square = face({0, 3, 6, 9}, {{{0, 0, 0}}, {{1, 0, 0}}, {{1, 1, 0}}, {{0, 1, 0}}});
+  // A vertical quadrilateral through the square's middle (x = 0.3, z from -0.5 to 0.5).
+  const auto through = face({12, 15, 18, 21},
+                            {{{0.3, -0.5, -0.5}}, {{0.3, 1.5, -0.5}}, {{0.3, 1.5, 0.5}}, {{0.3, -0.5, 0.5}}});
+  // A triangle whose edge pierces the square exactly on its diagonal (0,0)-(1,1).
+  const auto diagonal = face({12, 15, 18}, {{{0.5, 0.5, -0.5}}, {{0.5, 0.5, 0.5}}, {{2, 2, 0.5}}});
+  const auto above    = face({12, 15, 18, 21}, {{{0, 0, 0.1}}, {{1, 0, 0.1}}, {{1, 1, 0.1}}, {{0, 1, 0.1}}});
+  const auto reaching = face({12, 15, 18}, {{{0.5, 0.5, 0}}, {{0.5, 0.5, 1}}, {{0.7, 0.5, 1}}});
+  const auto shared   = face({0, 15, 18}, {{{0, 0, 0}}, {{0.5, 0.5, -0.5}}, {{0.5, 0.5, 0.5}}});
 
-  own.clear();
-  if (rank == 0)
-    own.push_back(a);
-  if (rank == size - 1)
-    own.push_back(touching);
-  EXPECT_EQ(check(own), "");
+  const std::string found = check_self_crossing(split_over_ranks(square, through));
+  EXPECT_NE(found.find("body 0 penetrates itself near ("), std::string::npos) << "'" << found << "'";
+  EXPECT_NE(check_self_crossing(split_over_ranks(square, diagonal)), "");
+  EXPECT_EQ(check_self_crossing(split_over_ranks(square, above)), "");
+  EXPECT_EQ(check_self_crossing(split_over_ranks(square, reaching)), "");
+  auto other_body = through;
+  other_body.body = 1;
+  EXPECT_EQ(check_self_crossing(split_over_ranks(square, other_body)), "");
+  EXPECT_EQ(check_self_crossing(split_over_ranks(square, shared)), "");
 }
 
 class PatchTest : public ::testing::TestWithParam<std::tuple<int, bool>>

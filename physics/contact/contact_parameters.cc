@@ -109,10 +109,12 @@ namespace physics::contact
                       "With contact surface ids: 'auto' (every body against every other; the lower body id is "
                       "the slave, the log says which pairs) or comma-separated 'slave:master' material id pairs, "
                       "e.g. '1:3, 2:3'. A body may be slave in one pair and master in another.");
-    prm.declare_entry("Self-contact check ids", "", Anything(),
-                      "Comma-separated boundary ids whose faces (besides the contact surfaces) are checked for "
-                      "self-contact after every converged step (2D: a body whose faces cross itself). "
-                      "Self-contact is not handled: the run stops with an error.");
+    prm.declare_entry(
+        "Self-contact check ids", "", Anything(),
+        "Comma-separated boundary ids whose faces (besides the contact surfaces) are checked for "
+        "self-contact after every converged step (a body whose faces cross each other: 2D two "
+        "segments, 3D an edge through a face). "
+        "Self-contact is not handled: the run stops with an error.");
     prm.leave_subsection();
 
     d.solver.declare(prm, residual_fields());

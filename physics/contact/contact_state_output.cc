@@ -328,8 +328,6 @@ namespace physics::contact::internal
       pcout_ << ", generalized-alpha (rho_inf " << p_.spectral_radius << ", dt " << p_.time_step << " s)";
     pcout_ << "\n";
     pcout_ << "contact: " << contact_->describe_pairs() << "\n";
-    if (p_.multi_body() && dim == 3)
-      pcout_ << "contact: self-contact is not handled and not detected in 3D\n";
   }
 
   // The class is instantiated once, in contact_problem.cc (an explicit instantiation of the

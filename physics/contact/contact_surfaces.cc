@@ -361,39 +361,33 @@ namespace physics::contact
                                           const std::vector<std::array<double, dim>>& master_x,
                                           const std::vector<std::array<double, dim>>& watch_x) const
   {
-    if constexpr (dim != 2)
-      return "";
-    else
-      {
-        auto segments_of = [&](const SurfaceFaces& faces, const std::vector<SurfaceNode<dim>>& nodes,
-                               const std::vector<std::array<double, dim>>& x, bool own_only) {
-          std::vector<BodySegment> segments;
-          for (std::size_t f = 0; f < faces.nodes.size(); ++f)
-            if (!own_only || faces.locally_owned[f])
+    auto facets_of = [&](const SurfaceFaces& faces, const std::vector<SurfaceNode<dim>>& nodes,
+                         const std::vector<std::array<double, dim>>& x, bool own_only) {
+      std::vector<BodyFacet<dim>> facets;
+      for (std::size_t f = 0; f < faces.nodes.size(); ++f)
+        if (!own_only || faces.locally_owned[f])
+          {
+            BodyFacet<dim> s;
+            s.body = faces.body[f];
+            for (const unsigned int k : faces.nodes[f]) // in order around the face
               {
-                BodySegment s;
-                s.body = faces.body[f];
-                for (int a = 0; a < 2; ++a)
-                  {
-                    const unsigned int k = faces.nodes[f][a];
-                    s.node[a]            = nodes[k].dofs[0];
-                    s.x[a]               = {{x[k][0], x[k][1]}};
-                  }
-                segments.push_back(s);
+                s.node.push_back(nodes[k].dofs[0]);
+                s.x.push_back(x[k]);
               }
-          return segments;
-        };
-        // This rank's own slave and watched faces, and those of every rank whose faces' box
-        // meets theirs (two crossing faces have meeting boxes); the master surface is here.
-        std::vector<BodySegment> own = segments_of(slave_faces_, slave_nodes_, slave_x, true);
-        for (const auto& s : segments_of(watch_faces_, watch_nodes_, watch_x, true))
-          own.push_back(s);
-        std::vector<BodySegment> segments = exchange_nearby_segments(own, comm_);
-        segments.insert(segments.end(), own.begin(), own.end());
-        for (const auto& s : segments_of(master_faces_, master_nodes_, master_x, false))
-          segments.push_back(s);
-        return lowest_rank_message(find_self_crossing(segments), comm_);
-      }
+            facets.push_back(s);
+          }
+      return facets;
+    };
+    // This rank's own slave and watched faces, and those of every rank whose faces' box meets
+    // theirs (two crossing faces have meeting boxes); the master surface is here.
+    std::vector<BodyFacet<dim>> own = facets_of(slave_faces_, slave_nodes_, slave_x, true);
+    for (const auto& s : facets_of(watch_faces_, watch_nodes_, watch_x, true))
+      own.push_back(s);
+    std::vector<BodyFacet<dim>> facets = exchange_nearby_facets(own, comm_);
+    facets.insert(facets.end(), own.begin(), own.end());
+    for (const auto& s : facets_of(master_faces_, master_nodes_, master_x, false))
+      facets.push_back(s);
+    return lowest_rank_message(find_self_crossing(facets), comm_);
   }
 
   template class MortarContact<2>;

@@ -33,7 +33,7 @@
 // a slave face is integrated only against the master faces of bodies paired with its own body.
 // A body may thus be slave toward one neighbour and master toward another (its faces are then in
 // both lists; a node may be a slave and a master node). Self-contact is not handled: a body is
-// never paired with itself; detect_self_contact() (2D) finds faces of one body that cross.
+// never paired with itself; detect_self_contact() finds faces of one body that cross.
 //
 // Parallel layout: the volume mesh is fully distributed (common/distributed_mesh.h) and so is the
 // slave side. A rank keeps the slave faces of its own cells and those of its ghost cells that
@@ -184,11 +184,12 @@ namespace physics::contact
     std::set<unsigned int> slave_bodies() const { return pairs_ ? pairs_->slave_bodies() : std::set<unsigned int>{}; }
     /// The pairs in use (multi-body mode; the automatic rule's pairs listed), for the log.
     std::string describe_pairs() const;
-    /// Self-contact check (2D: two faces of the same body among the slave, master and watch
-    /// faces that cross each other without sharing a node). Collective: each rank checks its own
-    /// slave and watch faces, those of the ranks whose faces' bounding box meets theirs (sent
-    /// point to point) and the master surface. Returns, on every rank, "" or a description of a
-    /// crossing (body and position; the lowest rank's find). 3D: not implemented, returns "".
+    /// Self-contact check: two faces of the same body among the slave, master and watch faces
+    /// that cross each other without sharing a node (2D: segments that cross; 3D: an edge of one
+    /// through the other, self_contact.h). Collective: each rank checks its own slave and watch
+    /// faces, those of the ranks whose faces' bounding box meets theirs (sent point to point) and
+    /// the master surface. Returns, on every rank, "" or a description of a crossing (body and
+    /// position; the lowest rank's find).
     std::string detect_self_contact(const std::vector<std::array<double, dim>>& slave_x,
                                     const std::vector<std::array<double, dim>>& master_x,
                                     const std::vector<std::array<double, dim>>& watch_x) const;
