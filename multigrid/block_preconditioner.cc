@@ -19,6 +19,7 @@
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_MapFactory.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
+#include <Xpetra_VectorFactory.hpp>
 
 #include <map>
 
@@ -184,12 +185,31 @@ namespace multigrid
         return;
       auto A = system.blocked_matrix();
       for (std::size_t k = 0; k < system.n_blocks(); ++k)
-        if (A->getMatrix(k, k).is_null() || A->getMatrix(k, k)->getGlobalNumEntries() == 0)
-          throw InputError("preset '" + preset.name +
-                           "' aggregates every block on its own diagonal block, and block '" +
-                           system.block(k).name +
-                           "' of this system has none (a saddle-point system: use a saddle-point preset, "
-                           "e.g. fully-coupled-sa-amg(simple))");
+        {
+          const auto block = A->getMatrix(k, k);
+          if (block.is_null() || block->getGlobalNumEntries() == 0)
+            throw InputError("preset '" + preset.name +
+                             "' aggregates every block on its own diagonal block, and block '" +
+                             system.block(k).name +
+                             "' of this system has none (a saddle-point system: use a saddle-point preset, "
+                             "e.g. fully-coupled-sa-amg(simple))");
+          // The smoothed prolongator divides by the block's diagonal (D^-1 A): a zero there (the
+          // constraint rows of active contact nodes) gives MueLu's "Prolongator damping factor
+          // needs to be finite".
+          auto diagonal = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(block->getRowMap(), true);
+          block->getLocalDiagCopy(*diagonal);
+          const auto values = diagonal->getData(0);
+          long long  local = 0, zero = 0;
+          for (const SC v : values)
+            local += v == 0.0 ? 1 : 0;
+          Teuchos::reduceAll(*block->getRowMap()->getComm(), Teuchos::REDUCE_SUM, 1, &local, &zero);
+          if (zero > 0)
+            throw InputError(
+                "preset '" + preset.name + "' smooths its prolongators with the inverse diagonal of " +
+                "every diagonal block, and block '" + system.block(k).name + "' has " + std::to_string(zero) +
+                " zero diagonal entries (a saddle-point system: use a saddle-point preset, e.g. "
+                "fully-coupled-sa-amg(simple))");
+        }
     }
 
     /// Every level's rows per block (blocked hierarchies).
