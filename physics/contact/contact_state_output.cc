@@ -124,8 +124,8 @@ namespace physics::contact::internal
   void ContactProblem<dim>::check_converged_contact(int number, double time)
   {
     // The last evaluation is the converged state's: its largest penetration (of the nodes under
-    // a contact constraint: a released prescribed node goes where its Dirichlet value puts it), and (2D)
-    // self-contact, which the mortar pairs do not handle: stop rather than let it pass.
+    // a contact constraint: a released prescribed node goes where its Dirichlet value puts it),
+    // and self-contact, which the mortar pairs do not handle: stop rather than let it pass.
     const double penetration = Utilities::MPI::max(std::max(0.0, deepest_local_penetration().first), comm_);
     summary_.max_penetration = std::max(summary_.max_penetration, penetration);
     JsonLinesLog::Line line;
