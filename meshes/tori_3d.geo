@@ -9,6 +9,9 @@
 // Boundary ids: 1 outer surfaces (contact), 5 inner surfaces of the tubes (not contact).
 // Mesh it alone: gmsh -3 [-setnumber refine 2] meshes/tori_3d.geo
 DefineConstant[ refine = 1, R = 100, r = 25, t = 5, gap = 2 ];
+// stacked = 1: torus 2 lies coaxially on top of torus 1 (not turned), so that the tubes meet
+// along a whole circle (a line contact with many active nodes instead of the crossing's few).
+DefineConstant[ stacked = 0 ];
 nq = 5 * refine;  // elements per quarter of the tube's circumference
 nt = 2 * refine;  // elements through the wall
 nl = 10 * refine; // layers per quarter turn around the torus axis
@@ -91,6 +94,10 @@ torus1[] = torus[];
 // Torus 2: axis y through (R, 0, R + 2 r + gap), so that its lowest point (x = R, z = r + gap)
 // lies `gap` above torus 1's top (x = R, z = r).
 ox = R; oy = 0; oz = R + 2 * r + gap; a[] = {0, 1, 0}; e[] = {0, 0, 1};
+If (stacked)
+  // Axis z through (0, 0, 2 r + gap): its bottom circle lies `gap` above torus 1's top circle.
+  ox = 0; oy = 0; oz = 2 * r + gap; a[] = {0, 0, 1}; e[] = {1, 0, 0};
+EndIf
 Call HollowTorus;
 torus2[] = torus[];
 // The last quarter's top faces coincide with the first quarter's section: merge them (and every
