@@ -266,35 +266,32 @@ namespace multigrid
         auto             coarse_dual_to_primal = Teuchos::rcp(new DualToPrimal());
         // key: (primal aggregate, active)
         std::map<std::pair<LO, bool>, LO> primal_to_dual_aggregate;
-        LO                                n_alone = 0; // one-node aggregates of prescribed slave nodes
+        LO                                n_aggregates = 0;
         for (LO i = 0; i < n_local; ++i)
           {
             const LO primal_node = dual_to_primal->at(i);
             const LO primal_aggregate =
                 primal_node == no_primal_node ? -1 : primal_vertex_to_aggregate[primal_node];
+            LO aggregate;
             if (primal_aggregate < 0)
               {
                 // A prescribed slave node (Dirichlet rows are in no aggregate): a one-node
                 // multiplier aggregate, whose coarse node again maps to no primal node.
-                const LO k                  = static_cast<LO>(primal_to_dual_aggregate.size() + n_alone);
-                (*coarse_dual_to_primal)[k] = no_primal_node;
-                vertex_to_aggregate[i]      = k;
-                winner[i]                   = comm->getRank();
-                ++n_alone;
-                continue;
+                aggregate                           = n_aggregates++;
+                (*coarse_dual_to_primal)[aggregate] = no_primal_node;
               }
-            const std::pair<LO, bool> key(primal_aggregate, active[i]);
-            auto                      it = primal_to_dual_aggregate.find(key);
-            if (it == primal_to_dual_aggregate.end())
+            else
               {
-                const LO k                  = static_cast<LO>(primal_to_dual_aggregate.size() + n_alone);
-                it                          = primal_to_dual_aggregate.emplace(key, k).first;
-                (*coarse_dual_to_primal)[k] = primal_aggregate; // coarse dual node -> coarse primal node
+                const auto [it, added] =
+                    primal_to_dual_aggregate.try_emplace({primal_aggregate, active[i]}, n_aggregates);
+                if (added) // coarse dual node -> coarse primal node
+                  (*coarse_dual_to_primal)[n_aggregates++] = primal_aggregate;
+                aggregate = it->second;
               }
-            vertex_to_aggregate[i] = it->second;
+            vertex_to_aggregate[i] = aggregate;
             winner[i]              = comm->getRank();
           }
-        aggregates->SetNumAggregates(static_cast<LO>(primal_to_dual_aggregate.size()) + n_alone);
+        aggregates->SetNumAggregates(n_aggregates);
         aggregates->AggregatesCrossProcessors(false);
 
         // DOF <-> node translation for TentativePFactory: global DOF = offset + node * dpn + k.
