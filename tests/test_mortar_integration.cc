@@ -177,3 +177,88 @@ TEST(MortarIntegration, LinearizationMatchesFiniteDifferences)
   tri.pop_back();
   check_linearization<3>(tri, xm, true);
 }
+
+namespace
+{
+  /// A small square face (3D) or segment (2D) through p whose unit normal (face_unit_normal's
+  /// orientation) is n.
+  template <int dim>
+  Face<dim> face_with_normal(const Point<double, dim>& n)
+  {
+    if constexpr (dim == 2)
+      return {{{0.1 * n[1], -0.1 * n[0]}}, {{-0.1 * n[1], 0.1 * n[0]}}};
+    else
+      {
+        // u, v orthonormal to n; the face's orientation is fixed against face_unit_normal below.
+        Point<double, 3> u{{std::abs(n[0]) < 0.9 ? 1.0 : 0.0, std::abs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0}};
+        const double     along = dot<double, 3>(u, n);
+        for (int d = 0; d < 3; ++d)
+          u[d] -= along * n[d];
+        const double len = std::sqrt(dot<double, 3>(u, u));
+        for (int d = 0; d < 3; ++d)
+          u[d] /= len;
+        const Point<double, 3> v = cross<double>(n, u);
+        Face<3>                f;
+        for (const auto& ab :
+             std::array<std::array<double, 2>, 4>{{{{-1, -1}}, {{1, -1}}, {{1, 1}}, {{-1, 1}}}})
+          f.push_back({{0.1 * (ab[0] * u[0] + ab[1] * v[0]), 0.1 * (ab[0] * u[1] + ab[1] * v[1]),
+                        0.1 * (ab[0] * u[2] + ab[1] * v[2])}});
+        return f;
+      }
+  }
+
+  /// The frame at a node whose one adjacent face has normal n: orthonormal, normal n itself, and
+  /// every tangent with a positive entry in the Cartesian component of the multiplier row that
+  /// holds it, in double and in AD arithmetic alike.
+  template <int dim>
+  void check_frame(const Point<double, dim>& n)
+  {
+    Face<dim> face = face_with_normal<dim>(n);
+    if (dot<double, dim>(face_unit_normal<double, dim>(face), n) < 0)
+      std::reverse(face.begin(), face.end());
+    const auto frame = nodal_frame<double, dim>({face});
+    const auto row   = constraint_components<double, dim>(frame);
+    for (int d = 0; d < dim; ++d)
+      EXPECT_NEAR(frame[0][d], n[d], 1e-12);
+    for (int a = 0; a < dim; ++a)
+      for (int b = 0; b < dim; ++b)
+        EXPECT_NEAR((dot<double, dim>(frame[a], frame[b])), (a == b ? 1.0 : 0.0), 1e-12);
+    for (int m = 1; m < dim; ++m)
+      EXPECT_GT(frame[m][row[m]], 0.0) << "tangent " << m << " at normal " << n[0] << " " << n[1];
+
+    std::vector<Point<AD, dim>> ad_face;
+    for (const auto& p : face)
+      {
+        Point<AD, dim> q;
+        for (int d = 0; d < dim; ++d)
+          q[d] = AD(dim * face.size(), dim * ad_face.size() + d, p[d]);
+        ad_face.push_back(q);
+      }
+    const auto ad_frame = nodal_frame<AD, dim>({ad_face});
+    for (int m = 0; m < dim; ++m)
+      for (int d = 0; d < dim; ++d)
+        EXPECT_NEAR(ad_frame[m][d].val(), frame[m][d], 1e-12);
+  }
+} // namespace
+
+// The tangents' signs: without a fixed orientation a frictionless row tau . lambda = 0 had the
+// diagonal entry +1 at some nodes and -1 at their neighbours (where the axis least aligned with
+// n changes), and the AMG's tentative multiplier transfer summed them to a zero coarse diagonal.
+TEST(MortarIntegration, TangentsPointAlongTheAxisOfTheirRows)
+{
+  for (int k = 0; k < 72; ++k)
+    {
+      const double phi = 2 * M_PI * (k + 0.5) / 72;
+      check_frame<2>({{std::cos(phi), std::sin(phi)}});
+      // Around a torus' top circle: n close to -z with a radial tilt, and a full sphere sweep.
+      const double tilt = 0.1;
+      check_frame<3>({{tilt * std::cos(phi) / std::sqrt(1 + tilt * tilt),
+                       tilt * std::sin(phi) / std::sqrt(1 + tilt * tilt), -1 / std::sqrt(1 + tilt * tilt)}});
+      for (int l = 1; l < 12; ++l)
+        {
+          const double theta = M_PI * l / 12;
+          check_frame<3>(
+              {{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)}});
+        }
+    }
+}

@@ -503,8 +503,39 @@ namespace physics::mortar
     return result;
   }
 
+  /// Which Cartesian component of a node's multiplier row holds which constraint of the frame
+  /// (normal first, then the tangents): the normal takes the component it is most aligned with,
+  /// each tangent the best remaining one. The rows' diagonals (and those of the Schur complement
+  /// the block smoothers build) are then nonzero, which pointwise smoothers (SGS, ILU) need.
+  template <typename T, int dim>
+  std::array<int, dim> constraint_components(const std::array<Point<T, dim>, dim>& frame)
+  {
+    std::array<int, dim>  component{};
+    std::array<bool, dim> taken{};
+    for (int m = 0; m < dim; ++m)
+      {
+        int best = -1;
+        for (int c = 0; c < dim; ++c)
+          if (!taken[c] && (best < 0 || std::abs(value_of(frame[m][c])) > std::abs(value_of(frame[m][best]))))
+            best = c;
+        taken[best]  = true;
+        component[m] = best;
+      }
+    return component;
+  }
+
   /// Unit normal and dim-1 unit tangents at a slave node from its adjacent faces (outward unit
   /// normals at the face centres, averaged), for any scalar type.
+  ///
+  /// A tangent's sign is free (tau . lambda = 0 and Coulomb's law hold for -tau as well), and it
+  /// is fixed here so that each tangent points along the positive Cartesian axis of the row that
+  /// holds it (constraint_components()): every frictionless tangential row then has a positive
+  /// diagonal entry in the multiplier block. Otherwise the sign flips wherever the axis least
+  /// aligned with n changes (every 45 degrees around a torus' contact circle), and the AMG's
+  /// tentative multiplier transfer, which sums a component over the nodes of an aggregate, adds
+  /// +1 and -1 into a coarse tangential row with a (near) zero diagonal: a near-singular coarse
+  /// operator, a preconditioner of norm ~1e10, and GMRES whose true residual stalls at 1e-3 while
+  /// its implicit one reaches the tolerance.
   template <typename T, int dim>
   std::array<Point<T, dim>, dim> nodal_frame(const std::vector<std::vector<Point<T, dim>>>& faces)
   {
@@ -540,6 +571,11 @@ namespace physics::mortar
         frame[1] = t;
         frame[2] = cross<T>(n, t);
       }
+    const auto component = constraint_components<T, dim>(frame);
+    for (int m = 1; m < dim; ++m)
+      if (value_of(frame[m][component[m]]) < 0)
+        for (int d = 0; d < dim; ++d)
+          frame[m][d] = -frame[m][d];
     return frame;
   }
 } // namespace physics::mortar

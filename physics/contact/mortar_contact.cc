@@ -230,22 +230,7 @@ namespace physics::contact
             adjacent_positions(j, [&](unsigned int k, unsigned int) -> Point<double, dim> { return slave_x[k]; });
         const auto frame = nodal_frame<double, dim>(faces);
         normals_[j]      = frame[0];
-        // Which multiplier row holds which constraint: the normal row goes to the Cartesian
-        // component the normal is most aligned with, each tangential row to the best remaining
-        // one. The rows' diagonals (and those of the Schur complement the block smoothers
-        // build) are then nonzero, which pointwise smoothers (SGS, ILU) need.
-        {
-          std::array<bool, dim> taken{};
-          for (int m = 0; m < dim; ++m)
-            {
-              int best = -1;
-              for (int c = 0; c < dim; ++c)
-                if (!taken[c] && (best < 0 || std::abs(frame[m][c]) > std::abs(frame[m][best])))
-                  best = c;
-              taken[best]       = true;
-              constraint_row_[j][m] = best;
-            }
-        }
+        constraint_row_[j] = constraint_components<double, dim>(frame); // which row holds which constraint
         const double w   = total[j * stride + stride - 1];
         double       g = 0, ln = 0;
         for (int d = 0; d < dim; ++d)
