@@ -13,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -425,6 +426,42 @@ namespace multigrid
       }
   }
 
+  namespace
+  {
+    /// Every string-valued placeholder of a template names a factory (a sublist) of that
+    /// template, e.g. value="Ainv-@SCHUR_INVERSE@": a value that names none (SCHUR_INVERSE=lumped)
+    /// is refused here, with the values the template does define, instead of MueLu's factory
+    /// lookup failing later without naming the template parameter.
+    void check_factory_names(const Preset& preset, const std::string& text, const std::string& file)
+    {
+      const auto&           values = preset.parameters.sublist("template parameters");
+      std::set<std::string> lists;
+      const std::regex      list_name("<ParameterList name=\"([^\"]*)\"");
+      for (std::sregex_iterator it(text.begin(), text.end(), list_name), end; it != end; ++it)
+        lists.insert((*it)[1].str());
+      const std::regex reference("type=\"string\" value=\"([^\"@]*)@([A-Z_]+)@([^\"@]*)\"");
+      for (std::sregex_iterator it(text.begin(), text.end(), reference), end; it != end; ++it)
+        {
+          const std::string prefix = (*it)[1].str(), key = (*it)[2].str(), suffix = (*it)[3].str();
+          if (!values.isParameter(key))
+            continue; // reported as a placeholder without value
+          const std::string value = Teuchos::toString(values.getEntry(key).getAny());
+          if (lists.count(prefix + value + suffix))
+            continue;
+          std::string known;
+          for (const auto& name : lists)
+            if (name.size() > prefix.size() + suffix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
+                name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+              known += (known.empty() ? "" : ", ") +
+                       name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+          throw InputError("preset '" + preset.name + "': template parameter " + key + " = '" + value +
+                           "' names no factory of " + fs::path(file).filename().string() +
+                           (prefix.empty() && suffix.empty() ? " (no sublist of that name)"
+                                                             : " (expected one of: " + known + ")"));
+        }
+    }
+  } // namespace
+
   std::string expand_template(const Preset& preset, int primal_dpn, int dual_dpn)
   {
     const auto&   p    = preset.parameters;
@@ -441,6 +478,7 @@ namespace multigrid
       for (auto pos = text.find(token); pos != std::string::npos; pos = text.find(token, pos + value.size()))
         text.replace(pos, token.size(), value);
     };
+    check_factory_names(preset, text, file);
     replace_all("PRIMAL_DPN", std::to_string(primal_dpn));
     replace_all("DUAL_DPN", std::to_string(dual_dpn));
     const auto& values = p.sublist("template parameters");
