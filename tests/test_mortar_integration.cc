@@ -180,7 +180,7 @@ TEST(MortarIntegration, LinearizationMatchesFiniteDifferences)
 
 namespace
 {
-  /// A small square face (3D) or segment (2D) through p whose unit normal (face_unit_normal's
+  /// A small square face (3D) or segment (2D) through the origin whose unit normal (face_unit_normal's
   /// orientation) is n.
   template <int dim>
   Face<dim> face_with_normal(const Point<double, dim>& n)
