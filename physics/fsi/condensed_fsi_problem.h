@@ -82,9 +82,10 @@ namespace physics::fsi
     void setup_inflow_and_monitors();
     /// The parabolic inflow at `time` (ramp included) into the iterate's inlet velocities.
     void apply_inflow(double time);
-    /// Logs the fluid's force on obstacle and structure and the monitor point's displacement
-    /// (event "obstacle_forces"), appends them to forces.csv.
-    void record_forces(int number, double time);
+    /// Logs the fluid's force on obstacle and structure, from the converged step's unconstrained
+    /// fluid residual `R_free`, and the monitor point's displacement (event "obstacle_forces");
+    /// appends them to forces.csv.
+    void        record_forces(int number, double time, const dealii::TrilinosWrappers::MPI::Vector& R_free);
     std::string forces_csv_header() const;
     /// The interface maps: fluid velocity DOF -> structure DOFs, ALE DOF -> structure DOFs (weights
     /// of P: matching nodes or dual mortar), and

@@ -146,13 +146,19 @@ namespace physics::fsi
   template <int dim>
   void CondensedFsi<dim>::end_step(int number, double time)
   {
-    // The interface traction lambda_{n+1} = P^T R^F_Gamma on the structure's interface DOFs,
-    // recovered for the next step's af lambda_n term, sent to the owners of the structure DOFs.
+    // The converged step's fluid residual, assembled once without constraints and before the
+    // states shift below, so that its time derivatives and grid velocity are the step's own. Its
+    // interface rows give the interface traction lambda_{n+1} = P^T R^F_Gamma on the structure's
+    // interface DOFs (for the next step's af lambda_n term, sent to the owners of the structure
+    // DOFs); its obstacle and interface rows give the forces (record_forces). The fluid's
+    // constraints are homogeneous Dirichlet conditions only, so an unconstrained row equals the
+    // constrained assembly's; the rows those conditions fix are left out of lambda, as the
+    // constrained assembly zeroes them.
     TrilinosWrappers::MPI::Vector R_F;
-    assemble_fluid(R_F, nullptr, nullptr);
+    assemble_fluid(R_F, nullptr, nullptr, &fluid_free_);
     std::map<GlobalIndex, double> lambda;
     for (const auto& [f, row] : fluid_partner_)
-      if (fluid_owned_.is_element(f))
+      if (fluid_owned_.is_element(f) && !fluid_constraints_.is_constrained(f))
         for (const auto& [sd, p] : row)
           lambda[sd] += p * R_F[f];
     lambda_old_ = send_entries_to_owners(
@@ -172,7 +178,7 @@ namespace physics::fsi
     last_time_step_ = fluid_model_.time_step; // BDF2's previous step in the next begin_step
     ++steps_done_;
     record_step(number, time);
-    record_forces(number, time);
+    record_forces(number, time, R_F);
   }
 
   template <int dim>
