@@ -435,7 +435,7 @@ namespace physics::beam_solid
     for (const auto& [j, k] : send_entries_to_owners(partial_kappa, node_owner, comm))
       kappa_[j] = k;
     std::set<GlobalIndex> solid_dofs, beam_dofs;
-    for (const auto& [j, row] : send_rows_to_owners(partial, node_owner, comm))
+    for (const auto& [j, row] : send_rows_to_owners(std::move(partial), node_owner, comm))
       {
         auto& entries = rows_[j];
         for (const auto& [column, weight] : row)
@@ -490,6 +490,6 @@ namespace physics::beam_solid
                 matrix_row[b.columns[c]] += scale * a.weight * b.weight;
             }
       }
-    return send_rows_to_owners(matrix, row_owner, comm_);
+    return send_rows_to_owners(std::move(matrix), row_owner, comm_);
   }
 } // namespace physics::beam_solid

@@ -331,7 +331,7 @@ namespace physics::beam_solid
             }
         }
       const auto beam_row_owner = [this](GlobalIndex row) { return beam_.owner(row / 6); };
-      beam_rows                 = send_rows_to_owners(beam_rows, beam_row_owner, comm_);
+      beam_rows                 = send_rows_to_owners(std::move(beam_rows), beam_row_owner, comm_);
       beam_residual             = send_entries_to_owners(beam_residual, beam_row_owner, comm_);
 
       // Coupling forces: the (owned rows of the) constant penalty matrix times the displacements.

@@ -48,19 +48,28 @@ namespace physics
     return 0;
   }
 
-  RowPieces send_rows_to_owners(const RowPieces& rows, const std::function<unsigned int(GlobalIndex)>& owner,
+  RowPieces send_rows_to_owners(RowPieces rows, const std::function<unsigned int(GlobalIndex)>& owner,
                                 MPI_Comm comm)
   {
-    int n_ranks = 1;
+    int n_ranks = 1, rank = 0;
     MPI_Comm_size(comm, &n_ranks);
+    MPI_Comm_rank(comm, &rank);
     std::vector<std::vector<Triplet>> outgoing(n_ranks);
-    for (const auto& [row, piece] : rows)
-      for (const auto& [col, value] : piece)
-        outgoing[owner(row)].push_back({row, col, value});
-    RowPieces result;
+    for (auto it = rows.begin(); it != rows.end();)
+      {
+        const unsigned int to = owner(it->first);
+        if (to == static_cast<unsigned int>(rank))
+          {
+            ++it;
+            continue;
+          }
+        for (const auto& [col, value] : it->second)
+          outgoing[to].push_back({it->first, col, value});
+        it = rows.erase(it);
+      }
     for (const auto& t : all_to_all(outgoing, comm))
-      result[t.row][t.col] += t.value;
-    return result;
+      rows[t.row][t.col] += t.value;
+    return rows;
   }
 
   std::map<GlobalIndex, double> send_entries_to_owners(const std::map<GlobalIndex, double>& entries,

@@ -24,7 +24,10 @@ namespace physics
   unsigned int owning_rank(const std::vector<dealii::IndexSet>& owned_per_rank, GlobalIndex index);
 
   /// Rows not owned here are sent to `owner(row)` and summed there; returns the owned rows.
-  RowPieces send_rows_to_owners(const RowPieces& rows, const std::function<unsigned int(GlobalIndex)>& owner,
+  /// The rows this rank owns stay in place and only the others travel, so a caller that moves
+  /// its pieces in (a whole merged matrix, mostly owned rows) holds them once, not three times
+  /// (pieces, triplets in flight and their sums).
+  RowPieces send_rows_to_owners(RowPieces rows, const std::function<unsigned int(GlobalIndex)>& owner,
                                 MPI_Comm comm);
 
   /// The same for a sparse vector.

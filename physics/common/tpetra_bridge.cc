@@ -7,6 +7,7 @@
 
 #include <Epetra_CrsMatrix.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace physics
@@ -53,30 +54,59 @@ namespace physics
     return B;
   }
 
+  namespace
+  {
+    /// The fill-complete matrix of this rank's rows: `rows` in the order of `gids`, each row's
+    /// (column, value) pairs given by entries_of(row). Every row is allocated to its exact length:
+    /// one common maximum would reserve rows x longest entries, and the longest row (a structure
+    /// row that collects fluid interface columns, a contact row) is several times the average.
+    template <typename Rows, typename EntriesOf>
+    RCP<Matrix> build_matrix(MPI_Comm comm, GO n_total, const std::vector<GO>& gids, const Rows& rows,
+                             const EntriesOf& entries_of)
+    {
+      auto row_map = Xpetra::MapFactory<LO, GO, NO>::Build(
+          Xpetra::UseTpetra, n_total, Teuchos::ArrayView<const GO>(gids), 0, teuchos_comm(comm));
+      Teuchos::ArrayRCP<std::size_t> lengths(gids.size());
+      std::size_t                    i = 0;
+      for (const auto& row : rows)
+        lengths[i++] = std::max<std::size_t>(entries_of(row).size(), 1);
+      RCP<Matrix>     A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, lengths.getConst());
+      std::vector<GO> columns;
+      std::vector<SC> values;
+      i = 0;
+      for (const auto& row : rows)
+        {
+          columns.clear();
+          values.clear();
+          for (const auto& [c, v] : entries_of(row))
+            {
+              columns.push_back(static_cast<GO>(c));
+              values.push_back(v);
+            }
+          A->insertGlobalValues(gids[i++], columns, values);
+        }
+      A->fillComplete();
+      return A;
+    }
+  } // namespace
+
   RCP<Matrix> matrix_from_rows(MPI_Comm comm, GO n_total, const std::vector<GO>& gids,
                                const std::vector<std::map<GO, double>>& rows)
   {
-    auto        row_map = Xpetra::MapFactory<LO, GO, NO>::Build(Xpetra::UseTpetra, n_total,
-                                                                Teuchos::ArrayView<const GO>(gids), 0, teuchos_comm(comm));
-    std::size_t longest = 1;
+    return build_matrix(
+        comm, n_total, gids, rows, [](const std::map<GO, double>& row) -> const auto& { return row; });
+  }
+
+  RCP<Matrix> matrix_from_rows(MPI_Comm comm, GO n_total,
+                               const std::map<dealii::types::global_dof_index,
+                                              std::map<dealii::types::global_dof_index, double>>& rows)
+  {
+    std::vector<GO> gids;
+    gids.reserve(rows.size());
     for (const auto& row : rows)
-      longest = std::max(longest, row.size());
-    RCP<Matrix>     A = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, longest);
-    std::vector<GO> columns;
-    std::vector<SC> values;
-    for (std::size_t i = 0; i < gids.size(); ++i)
-      {
-        columns.clear();
-        values.clear();
-        for (const auto& [c, v] : rows[i])
-          {
-            columns.push_back(c);
-            values.push_back(v);
-          }
-        A->insertGlobalValues(gids[i], columns, values);
-      }
-    A->fillComplete();
-    return A;
+      gids.push_back(static_cast<GO>(row.first));
+    return build_matrix(
+        comm, n_total, gids, rows, [](const auto& row) -> const auto& { return row.second; });
   }
 
   RCP<MultiVector> to_xpetra(const dealii::TrilinosWrappers::MPI::Vector& v, const RCP<const Map>& map)

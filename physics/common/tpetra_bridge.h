@@ -60,6 +60,13 @@ namespace physics
                                                      const std::vector<multigrid::GO>&               gids,
                                                      const std::vector<std::map<multigrid::GO, double>>& rows);
 
+  /// The same from rows keyed by their global ids (this rank's rows, in ascending order), so
+  /// that a caller holding its rows in a map need not copy them into a vector first.
+  multigrid::RCP<multigrid::Matrix>
+  matrix_from_rows(MPI_Comm comm, multigrid::GO n_total,
+                   const std::map<dealii::types::global_dof_index,
+                                  std::map<dealii::types::global_dof_index, double>>& rows);
+
   /// Writes the locally owned entries of x (one column, same global ids) into v.
   void copy_to_dealii(const multigrid::MultiVector& x, dealii::TrilinosWrappers::MPI::Vector& v);
 } // namespace physics

@@ -517,21 +517,20 @@ namespace physics::fsi
     const auto owner = [&](GlobalIndex g) {
       return g < static_cast<GlobalIndex>(n_solid_) ? owning_rank(solid_owned_per_rank_, g) : rank_;
     };
-    rows = send_rows_to_owners(rows, owner, comm_);
+    rows = send_rows_to_owners(std::move(rows), owner, comm_);
     rhs  = send_entries_to_owners(rhs, owner, comm_);
 
     // Owned rows in ascending order: structure, fluid inner, ALE inner (contiguous per rank).
-    std::vector<std::vector<GO>>      block_gids(3);
-    std::vector<GO>                   gids;
-    std::vector<std::map<GO, double>> row_list;
+    std::vector<std::vector<GO>> block_gids(3);
+    std::vector<GO>              gids;
     for (const auto& [g, entries] : rows)
       {
         const GO gid = static_cast<GO>(g);
         block_gids[gid < n_solid_ ? 0 : gid < n_solid_ + n_fluid_ ? 1 : 2].push_back(gid);
         gids.push_back(gid);
-        row_list.emplace_back(entries.begin(), entries.end());
       }
-    auto A = matrix_from_rows(comm_, n_solid_ + n_fluid_ + n_mesh_, gids, row_list);
+    auto A = matrix_from_rows(comm_, n_solid_ + n_fluid_ + n_mesh_, rows);
+    rows.clear();
     auto b = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(A->getRowMap(), 1, true);
     {
       auto data = b->getDataNonConst(0);
