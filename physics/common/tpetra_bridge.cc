@@ -36,7 +36,11 @@ namespace physics
     const auto              row_map = to_xpetra_map(A.locally_owned_range_indices(), comm);
     const auto              domain  = to_xpetra_map(A.locally_owned_domain_indices(), comm);
 
-    RCP<Matrix>         B = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, E.MaxNumEntries());
+    // Each row allocated to its own length (as in build_matrix below), not rows x the longest.
+    Teuchos::ArrayRCP<std::size_t> lengths(E.NumMyRows());
+    for (int local_row = 0; local_row < E.NumMyRows(); ++local_row)
+      lengths[local_row] = std::max(E.NumMyEntries(local_row), 1);
+    RCP<Matrix>         B = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(row_map, lengths.getConst());
     std::vector<double> values(E.MaxNumEntries());
     std::vector<int>    columns(E.MaxNumEntries());
     std::vector<GO>     wide(E.MaxNumEntries());
