@@ -450,6 +450,7 @@ namespace physics::beam_solid
 
     Linearization BeamSolidProblem::linearize(int /*iteration*/)
     {
+      system_ = multigrid::BlockSystem(); // the last Newton matrix: freed before the next is built
       system_ = assemble(load_factor_);
       Linearization result;
       result.system         = &system_;

@@ -497,6 +497,9 @@ namespace physics::contact
       if (dynamics_)
         weight_contact_forces(contribution);
       count_active_set();
+      // The last Newton matrix is freed before the next is built (its row numbering, which
+      // update() needed, is replaced below as well).
+      linear_.system = multigrid::BlockSystem();
 
       TrilinosWrappers::SparseMatrix K;
       K.reinit(owned_, owned_, structural_pattern_, comm_);

@@ -76,6 +76,7 @@ namespace physics::fsi
     if (p_.check_jacobian && iteration == 0 && steps_done_ == 1)
       check_jacobian();
     Linearization result;
+    system_       = multigrid::BlockSystem(); // the last Newton matrix: freed before the next is built
     system_       = assemble(result.residual_norms);
     result.system = &system_;
     return result;

@@ -254,6 +254,7 @@ namespace physics::fsi
   template <int dim>
   Linearization FluidFlow<dim>::linearize(int /*iteration*/)
   {
+    system_ = multigrid::BlockSystem(); // the last Newton matrix: freed before the next is built
     assemble(true);
     system_ = block_system();
     // Residual per field: momentum rows (velocity DOFs) and continuity rows (pressure DOFs).
