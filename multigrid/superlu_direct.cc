@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <cstdlib>
+#include <iterator>
 #include <numeric>
 
 namespace multigrid
@@ -33,26 +34,50 @@ namespace multigrid
       std::vector<double> values;
     };
 
-    /// Compressed rows -> compressed columns (the transpose of the row arrays' pattern).
-    CompressedColumns to_columns(int n, const std::vector<int>& row_pointers, const std::vector<int>& columns,
-                                 const std::vector<double>& values)
+    /// The gathered matrix (all rows on this rank, rows and columns numbered by `map`) in
+    /// compressed columns, built in two passes over its rows (count per column, then fill) so that
+    /// no row-wise copy exists beside it: on a coarse level gathered to rank 0 every copy of the
+    /// matrix adds to that one rank's memory. Stored zeros are left out; an empty row gets a one on
+    /// its diagonal if `unit_diagonal_on_empty_rows`. Rows come in increasing order in each column.
+    CompressedColumns gathered_columns(const Matrix& root, const ::multigrid::Map& map,
+                                       bool unit_diagonal_on_empty_rows)
     {
+      const int        n       = static_cast<int>(root.getNodeNumRows());
+      const auto       col_map = root.getColMap();
+      std::vector<int> column_of(col_map->getNodeNumElements()); // column map LID -> column of A
+      for (std::size_t c = 0; c < column_of.size(); ++c)
+        column_of[c] = map.getLocalElement(col_map->getGlobalElement(c));
       CompressedColumns A;
       A.n = n;
       A.pointers.assign(n + 1, 0);
-      for (int c : columns)
-        ++A.pointers[c + 1];
-      std::partial_sum(A.pointers.begin(), A.pointers.end(), A.pointers.begin());
-      A.rows.resize(columns.size());
-      A.values.resize(columns.size());
-      std::vector<int> next(A.pointers.begin(), A.pointers.end() - 1);
-      for (int i = 0; i < n; ++i)
-        for (int k = row_pointers[i]; k < row_pointers[i + 1]; ++k)
+      // visit(i, column, value) for every entry the factorization gets, row by row.
+      const auto for_each_entry = [&](auto&& visit) {
+        for (int i = 0; i < n; ++i)
           {
-            const int at = next[columns[k]]++;
-            A.rows[at]   = i;
-            A.values[at] = values[k];
+            Teuchos::ArrayView<const LO> cols;
+            Teuchos::ArrayView<const SC> vals;
+            root.getLocalRowView(i, cols, vals);
+            bool empty = true;
+            for (LO k = 0; k < cols.size(); ++k)
+              if (vals[k] != 0.0)
+                {
+                  visit(i, column_of[cols[k]], vals[k]);
+                  empty = false;
+                }
+            if (empty && unit_diagonal_on_empty_rows)
+              visit(i, i, 1.0);
           }
+      };
+      for_each_entry([&](int, int column, double) { ++A.pointers[column + 1]; });
+      std::partial_sum(A.pointers.begin(), A.pointers.end(), A.pointers.begin());
+      A.rows.resize(A.pointers.back());
+      A.values.resize(A.pointers.back());
+      std::vector<int> next(A.pointers.begin(), A.pointers.end() - 1);
+      for_each_entry([&](int i, int column, double value) {
+        const int at = next[column]++;
+        A.rows[at]   = i;
+        A.values[at] = value;
+      });
       return A;
     }
 
@@ -60,22 +85,31 @@ namespace multigrid
     /// (diagonal left out). Returns SuperLU's perm_c: column j of A is column perm_c[j] of A Pc.
     std::vector<int> nested_dissection(const CompressedColumns& A)
     {
-      std::vector<std::vector<idx_t>> neighbours(A.n);
-      for (int j = 0; j < A.n; ++j)
-        for (int k = A.pointers[j]; k < A.pointers[j + 1]; ++k)
-          if (A.rows[k] != j)
-            {
-              neighbours[j].push_back(A.rows[k]);
-              neighbours[A.rows[k]].push_back(j);
-            }
+      // The pattern of A^T (rows of A as lists of columns, sorted), then each vertex's neighbours:
+      // the union of column j and row j of A without the diagonal, written straight into the
+      // METIS arrays (no list per vertex).
+      std::vector<int> t_pointers(A.n + 1, 0), t_columns(A.rows.size());
+      for (int r : A.rows)
+        ++t_pointers[r + 1];
+      std::partial_sum(t_pointers.begin(), t_pointers.end(), t_pointers.begin());
+      {
+        std::vector<int> next(t_pointers.begin(), t_pointers.end() - 1);
+        for (int j = 0; j < A.n; ++j)
+          for (int k = A.pointers[j]; k < A.pointers[j + 1]; ++k)
+            t_columns[next[A.rows[k]]++] = j;
+      }
       std::vector<idx_t> xadj(1, 0), adjncy;
-      for (auto& list : neighbours)
+      adjncy.reserve(2 * A.rows.size());
+      for (int j = 0; j < A.n; ++j)
         {
-          std::sort(list.begin(), list.end());
-          list.erase(std::unique(list.begin(), list.end()), list.end());
-          adjncy.insert(adjncy.end(), list.begin(), list.end());
+          const auto column = A.rows.begin() + A.pointers[j], column_end = A.rows.begin() + A.pointers[j + 1];
+          const auto row = t_columns.begin() + t_pointers[j], row_end = t_columns.begin() + t_pointers[j + 1];
+          const auto from = adjncy.size();
+          std::set_union(column, column_end, row, row_end, std::back_inserter(adjncy));
+          adjncy.erase(std::remove(adjncy.begin() + from, adjncy.end(), static_cast<idx_t>(j)), adjncy.end());
           xadj.push_back(static_cast<idx_t>(adjncy.size()));
         }
+      std::vector<int>().swap(t_columns);
       std::vector<int> perm_c(A.n);
       if (adjncy.empty()) // no couplings (e.g. a diagonal coarse matrix): any order is fill-free
         {
@@ -251,39 +285,21 @@ namespace multigrid
       importer = Xpetra::ImportFactory<LO, GO, NO>::Build(A->getRowMap(), root_map_);
     RCP<Matrix> root = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A, *importer, root_map_, root_map_);
 
-    int info = 0;
+    // Rank 0 keeps one copy of the matrix, in compressed columns; the gathered Tpetra matrix goes
+    // before the factorization (on a coarse level of many ranks this one rank holds the whole
+    // coarse operator, its copies and its factors).
     if (comm->getRank() == 0)
       {
-        factors_              = std::make_unique<Factors>();
-        const int           n = static_cast<int>(root->getNodeNumRows());
-        std::vector<int>    row_pointers(1, 0), columns;
-        std::vector<double> values;
-        const auto          col_map = root->getColMap();
-        for (int i = 0; i < n; ++i)
-          {
-            Teuchos::ArrayView<const LO> cols;
-            Teuchos::ArrayView<const SC> vals;
-            root->getLocalRowView(i, cols, vals);
-            for (LO k = 0; k < cols.size(); ++k)
-              if (vals[k] != 0.0) // stored zeros: no use to the factorization
-                {
-                  columns.push_back(root_map_->getLocalElement(col_map->getGlobalElement(cols[k])));
-                  values.push_back(vals[k]);
-                }
-            if (row_pointers.back() == static_cast<int>(columns.size()) &&
-                options.unit_diagonal_on_empty_rows)
-              {
-                columns.push_back(i);
-                values.push_back(1.0);
-              }
-            row_pointers.push_back(static_cast<int>(columns.size()));
-          }
-        Factors& f = *factors_;
-        f.B        = to_columns(n, row_pointers, columns, values);
-        if (n > 0)
-          info = f.factorize(options.iterative_refinement);
-        if (info == 0 && n > 0)
-          factor_nnz_ = f.nonzeros();
+        factors_    = std::make_unique<Factors>();
+        factors_->B = gathered_columns(*root, *root_map_, options.unit_diagonal_on_empty_rows);
+      }
+    root     = Teuchos::null;
+    int info = 0;
+    if (factors_ && factors_->n() > 0)
+      {
+        info = factors_->factorize(options.iterative_refinement);
+        if (info == 0)
+          factor_nnz_ = factors_->nonzeros();
       }
     Teuchos::broadcast(*comm, 0, Teuchos::outArg(info));
     Teuchos::broadcast(*comm, 0, Teuchos::outArg(factor_nnz_));
