@@ -21,23 +21,6 @@
 
 namespace physics
 {
-  namespace
-  {
-    /// Gives the heap's free pages back to the system. The assembly's transients (the rows of
-    /// the merged system) and a Newton step's AMG hierarchy are a rank's largest allocations;
-    /// glibc keeps the pages they free resident wherever live small objects sit between them,
-    /// and the next step's allocations do not all fit there, so without this the resident set
-    /// grows from Newton step to Newton step. Measured on the FSI tube at 20 k DOFs per rank
-    /// (7 Newton steps): the 4-rank run's rank 0 (which also factors the gathered coarse level)
-    /// 692 -> 617 MB peak, 1 rank 525 -> 513 MB; each call takes about 20 ms.
-    void return_free_pages()
-    {
-#ifdef __GLIBC__
-      malloc_trim(0);
-#endif
-    }
-  } // namespace
-
   NewtonSolver::NewtonSolver(NewtonSettings settings, multigrid::Preset preset, multigrid::SolveOptions options,
                              JsonLinesLog& log, dealii::ConditionalOStream& console, dealii::TimerOutput& timer,
                              MPI_Comm comm)
@@ -285,7 +268,6 @@ namespace physics
           return false;
         }
       const double seconds = wall.wall_time();
-      return_free_pages(); // the assembly's transients
       const auto&  norms   = lin.residual_norms;
       if (it == 0)
         largest = norms;
@@ -390,7 +372,6 @@ namespace physics
                                                            "-newton" + std::to_string(it)
                                                      : "",
                          problem.state_signature());
-        return_free_pages(); // the hierarchy (unless kept) and the solve's work vectors
         if (!result.failure.empty())
           {
             line.add("failure", result.failure);

@@ -1,5 +1,9 @@
 #include "common/step_driver.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -9,6 +13,23 @@ namespace physics
 {
   namespace
   {
+    /// Gives the heap's free pages back to the system, once per step (after its Newton solve).
+    /// A step's assemblies and AMG hierarchies are a rank's largest allocations; glibc keeps the
+    /// pages they free resident wherever live small objects sit between them, and later
+    /// allocations do not all fit there, so without this the resident set grows from step to
+    /// step. Measured on the FSI tube at 20 k DOFs per rank, 3 time steps of 2-3 Newton steps:
+    /// the 4-rank run's rank 0 (which also factors the gathered coarse level) 692 -> 664 MB peak,
+    /// 1 rank 550 -> 536 MB, 210 k page faults against 104 k. Not after every Newton step: the
+    /// pages given back are faulted in again by the next allocations, and on this (virtual)
+    /// machine that cost 38 % more CPU time per run when done after every assembly and every
+    /// solve (661 k page faults; 4 ranks: 617 MB).
+    void return_free_pages()
+    {
+#ifdef __GLIBC__
+      malloc_trim(0);
+#endif
+    }
+
     /// The last step ends exactly at t_end: a remainder below this fraction of the nominal step
     /// is rounding, not a step of its own.
     constexpr double end_tolerance = 1e-10;
@@ -140,6 +161,7 @@ namespace physics
         };
         const std::string prefix = "step" + std::to_string(number) + (attempt > 0 ? "." + std::to_string(attempt) : "");
         NewtonResult      newton_result = newton.solve(problem, fields, prefix);
+        return_free_pages();
         if (newton_result.converged)
           {
             problem.end_step(number, t_new);
