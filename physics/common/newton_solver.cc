@@ -9,10 +9,6 @@
 
 #include <deal.II/base/timer.h>
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
-
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
