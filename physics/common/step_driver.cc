@@ -22,7 +22,11 @@ namespace physics
     /// 1 rank 550 -> 536 MB, 210 k page faults against 104 k. Not after every Newton step: the
     /// pages given back are faulted in again by the next allocations, and on this (virtual)
     /// machine that cost 38 % more CPU time per run when done after every assembly and every
-    /// solve (661 k page faults; 4 ranks: 617 MB).
+    /// solve (661 k page faults; 4 ranks: 617 MB). Once per step costs 6-8 % of the wall time of
+    /// the main example here (the rings, 92 steps, 2 ranks: 83.8 / 84.1 s against 77.3 / 79.7 s),
+    /// for 3 MB; on hardware without a hypervisor a page fault costs several times less. Trimming
+    /// only where mallinfo2 reports more free than live memory did not help on the FSI tube
+    /// (rank 0 stayed at 692 MB).
     void return_free_pages()
     {
 #ifdef __GLIBC__
