@@ -377,6 +377,10 @@ namespace physics::beam_solid
       std::vector<GO> all(beam_gids);
       all.insert(all.end(), solid_gids.begin(), solid_gids.end());
       auto A = matrix_from_rows(comm_, n_beam + static_cast<GO>(dof_handler_.n_dofs()), all, rows);
+      // The rows' map nodes (~64 bytes per entry, several times the matrix) go before the
+      // blocks are extracted: held through from_merged() they were the assembly's peak.
+      rows = {};
+      beam_rows.clear();
       auto b = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(A->getRowMap(), 1, true);
       {
         auto data = b->getDataNonConst(0);

@@ -188,6 +188,7 @@ namespace physics::contact
         b_data[i] = -r;
       }
     auto A = matrix_from_rows(comm, n_total, all_gids, matrix_rows);
+    matrix_rows = {}; // map nodes, several times the matrix: gone before the blocks are extracted
 
     std::vector<BlockInfo> blocks(2);
     blocks[0].name          = "displacement";
