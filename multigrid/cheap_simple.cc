@@ -2,12 +2,12 @@
 
 #include "hierarchy_utils.h"
 #include "inverse_approximation.h"
+#include "schur_complement.h"
 
 #include <MueLu_Hierarchy.hpp>
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_MapExtractor.hpp>
-#include <Xpetra_MatrixMatrix.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
 
 #include <algorithm>
@@ -90,12 +90,7 @@ namespace multigrid
                              : approximate_inverse(*b.A, update_options_);
 
     // S = C - B2 Â B1^T, formed explicitly (sparse: Â is diagonal or a SPAI on a fixed pattern).
-    auto        out = Teuchos::fancyOStream(Teuchos::rcpFromRef(std::cerr));
-    RCP<Matrix> AinvB1t =
-        Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*b.A_inverse, false, *b.B1t, false, *out);
-    RCP<Matrix> product = Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*b.B2, false, *AinvB1t, false, *out);
-    Xpetra::MatrixMatrix<SC, LO, GO, NO>::TwoMatrixAdd(*C, false, 1.0, *product, false, -1.0, b.S, *out);
-    b.S->fillComplete(C->getDomainMap(), C->getRangeMap());
+    b.S = explicit_schur_complement(C, *b.B2, *b.A_inverse, *b.B1t, 1.0);
     return b;
   }
 

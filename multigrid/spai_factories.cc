@@ -2,6 +2,7 @@
 
 #include "hierarchy_utils.h"
 #include "inverse_approximation.h"
+#include "schur_complement.h"
 
 #include <MueLu_Level.hpp>
 #include <MueLu_Monitor.hpp>
@@ -11,7 +12,6 @@
 #include <MueLu_SmootherPrototype.hpp>
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
-#include <Xpetra_MatrixMatrix.hpp>
 #include <Xpetra_TpetraMultiVector.hpp>
 
 namespace multigrid
@@ -91,27 +91,7 @@ namespace multigrid
             return;
           }
         RCP<Matrix> inverse = Get<RCP<Matrix>>(level, "Ainv");
-        using MM            = Xpetra::MatrixMatrix<SC, LO, GO, NO>;
-        Teuchos::FancyOStream& out         = GetOStream(MueLu::Statistics2);
-        RCP<Matrix>            inverse_A01 = MM::Multiply(*inverse, false, *A01, false, out);
-        RCP<Matrix>            product     = MM::Multiply(*A10, false, *inverse_A01, false, out);
-        RCP<Matrix>            S;
-        if (A11.is_null()) // a coarse level's all-zero C block is not stored
-          {
-            const auto domain = product->getDomainMap(), range = product->getRangeMap();
-            product->resumeFill();
-            product->scale(-1.0 / omega_);
-            product->fillComplete(domain, range);
-            S = product;
-          }
-        else
-          {
-            MM::TwoMatrixAdd(*A11, false, 1.0, *product, false, -1.0 / omega_, S, out);
-            S->fillComplete(A11->getDomainMap(), A11->getRangeMap());
-            // the block's striding, for the corrector's smoother and a later AMG on S
-            S->SetFixedBlockSize(A11->GetFixedBlockSize());
-          }
-        Set(level, "A", S);
+        Set(level, "A", explicit_schur_complement(A11, *A10, *inverse, *A01, 1.0 / omega_));
       }
 
     private:
