@@ -62,10 +62,19 @@ namespace multigrid
         row.emplace_back(new_column[static_cast<std::size_t>(columns(k))], factor * values(k));
     }
 
-    /// Sorts a row by column and sums the entries of equal columns.
-    void sort_and_merge(std::vector<std::pair<LO, SC>>& row)
+    /// Sorts a row by column and sums the entries of equal columns. The row is the entries of
+    /// two fill-complete rows, each sorted by its own local ids; the union column map keeps the
+    /// order of both column maps (owned ids in domain-map order, then the remote ones grouped by
+    /// owner, ascending), so each part stays sorted and one merge sorts the row. A part that is
+    /// not sorted (a product left unsorted) is sorted instead.
+    void sort_and_merge(std::vector<std::pair<LO, SC>>& row, std::size_t first_part)
     {
-      std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      const auto by_column = [](const auto& x, const auto& y) { return x.first < y.first; };
+      const auto middle    = row.begin() + static_cast<std::ptrdiff_t>(first_part);
+      if (std::is_sorted(row.begin(), middle, by_column) && std::is_sorted(middle, row.end(), by_column))
+        std::inplace_merge(row.begin(), middle, row.end(), by_column);
+      else
+        std::sort(row.begin(), row.end(), by_column);
       std::size_t n = 0;
       for (std::size_t k = 0; k < row.size(); ++k)
         if (n > 0 && row[n - 1].first == row[k].first)
@@ -93,8 +102,9 @@ namespace multigrid
     const auto                     form_row = [&](LO i) {
       row.clear();
       append_row(C, i, from_C, 1.0, row);
+      const std::size_t first_part = row.size();
       append_row(P, i, from_P, beta, row);
-      sort_and_merge(row);
+      sort_and_merge(row, first_part);
     };
     typename TpetraCrs::local_graph_device_type::row_map_type::non_const_type offsets(
         "row offsets", static_cast<std::size_t>(n_rows) + 1);
