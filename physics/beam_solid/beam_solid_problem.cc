@@ -346,7 +346,7 @@ namespace physics::beam_solid
 
       // Rows of the merged system: owned beam DOFs, then owned solid DOFs.
       std::vector<GO>                   beam_gids, solid_gids;
-      std::vector<std::map<GO, double>> rows;
+      std::vector<FlatRow>              rows;
       std::vector<double>               rhs;
       for (GlobalIndex n = beam_.first_owned; n < beam_.end_owned; ++n)
         for (int k = 0; k < 6; ++k)
@@ -363,7 +363,7 @@ namespace physics::beam_solid
         for (const auto& piece : {&beam_residual, &coupling_residual})
           if (const auto it = piece->find(g); it != piece->end())
             residual += it->second;
-        rows.push_back(std::move(entries));
+        rows.emplace_back(entries.begin(), entries.end());
         rhs.push_back(-residual);
       };
       for (const GO g : beam_gids)
@@ -377,8 +377,8 @@ namespace physics::beam_solid
       std::vector<GO> all(beam_gids);
       all.insert(all.end(), solid_gids.begin(), solid_gids.end());
       auto A = matrix_from_rows(comm_, n_beam + static_cast<GO>(dof_handler_.n_dofs()), all, rows);
-      // The rows' map nodes (~64 bytes per entry, several times the matrix) go before the
-      // blocks are extracted: held through from_merged() they were the assembly's peak.
+      // The rows go before the blocks are extracted: held through from_merged() they were the
+      // assembly's peak.
       rows = {};
       beam_rows.clear();
       auto b = Xpetra::MultiVectorFactory<double, int, GO, multigrid::NO>::Build(A->getRowMap(), 1, true);

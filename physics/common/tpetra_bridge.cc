@@ -95,10 +95,10 @@ namespace physics
   } // namespace
 
   RCP<Matrix> matrix_from_rows(MPI_Comm comm, GO n_total, const std::vector<GO>& gids,
-                               const std::vector<std::map<GO, double>>& rows)
+                               const std::vector<FlatRow>& rows)
   {
     return build_matrix(
-        comm, n_total, gids, rows, [](const std::map<GO, double>& row) -> const auto& { return row; });
+        comm, n_total, gids, rows, [](const FlatRow& row) -> const auto& { return row; });
   }
 
   RCP<Matrix> matrix_from_rows(MPI_Comm comm, GO n_total,

@@ -169,12 +169,12 @@ namespace physics::contact
                                                                 teuchos_comm(comm));
     auto b      = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(row_map, 1, true);
     auto b_data = b->getDataNonConst(0);
-    std::vector<std::map<GO, double>> matrix_rows(all_gids.size());
+    std::vector<FlatRow> matrix_rows(all_gids.size());
     for (std::size_t i = 0; i < all_gids.size(); ++i)
       {
-        const GlobalIndex row     = result.assembly_index[i];
-        auto&             entries = matrix_rows[i];
-        double            r       = 0;
+        const GlobalIndex    row = result.assembly_index[i];
+        std::map<GO, double> entries;
+        double               r = 0;
         if (row < n_dofs)
           {
             add_row(K, row, new_gid, entries);
@@ -186,9 +186,10 @@ namespace physics::contact
         if (const auto it = residual_pieces.find(row); it != residual_pieces.end())
           r += it->second;
         b_data[i] = -r;
+        matrix_rows[i].assign(entries.begin(), entries.end());
       }
-    auto A = matrix_from_rows(comm, n_total, all_gids, matrix_rows);
-    matrix_rows = {}; // map nodes, several times the matrix: gone before the blocks are extracted
+    auto A      = matrix_from_rows(comm, n_total, all_gids, matrix_rows);
+    matrix_rows = {}; // gone before the blocks are extracted (held through from_merged, the peak)
 
     std::vector<BlockInfo> blocks(2);
     blocks[0].name          = "displacement";
