@@ -1,6 +1,7 @@
 // The explicit Schur complement S = C - s B2 Â B1^T of a 2 x 2 block matrix [A B1^T; B2 C] with a
-// sparse Â ≈ A^-1 (diagonal or SPAI), shared by CheapSIMPLE (s = 1) and the SPAI Schur-complement
-// factory of the monolithic beam/solid AMG (s = 1 / omega).
+// sparse Â ≈ A^-1 (diagonal or SPAI), shared by CheapSIMPLE (s = 1) and the Schur-complement
+// factory of the saddle-point AMG templates (s = 1 / omega: the SIMPLE smoothers of the contact
+// presets, and the monolithic beam/solid AMG).
 //
 // Memory, not flops, decides how it is formed. Measured on the beam/solid fibre block, 8 ranks,
 // 155 k DOFs, where S is the largest matrix of the preconditioner (3.7 M entries on the rank with
