@@ -2,6 +2,8 @@
 
 #include "hierarchy_utils.h"
 
+#include <MueLu_Utilities.hpp>
+
 #include <Teuchos_LAPACK.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
 #include <Tpetra_CrsMatrix.hpp>
@@ -200,8 +202,7 @@ namespace multigrid
   {
     const TpetraMatrix& tA      = Xpetra::Helpers<SC, LO, GO, NO>::Op2TpetraCrs(A);
     RCP<TpetraMatrix>   inverse = approximate_inverse(tA, options);
-    RCP<CrsMatrix>      wrapped = rcp(new Xpetra::TpetraCrsMatrix<SC, LO, GO, NO>(inverse));
-    return rcp(new Xpetra::CrsMatrixWrap<SC, LO, GO, NO>(wrapped));
+    return MueLu::TpetraCrs_To_XpetraMatrix(inverse);
   }
 
   double inverse_residual_norm(const TpetraMatrix& A, const TpetraMatrix& A_inverse)

@@ -1,11 +1,11 @@
 #include "schur_complement.h"
 
+#include <MueLu_Utilities.hpp>
+
 #include <Teuchos_FancyOStream.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Details_makeColMap.hpp>
-#include <Xpetra_CrsMatrixWrap.hpp>
 #include <Xpetra_MatrixMatrix.hpp>
-#include <Xpetra_TpetraCrsMatrix.hpp>
 
 #include <algorithm>
 #include <sstream>
@@ -131,8 +131,7 @@ namespace multigrid
       }
     auto sum = Teuchos::rcp(new TpetraCrs(C.getRowMap(), columns, offsets, indices, values));
     sum->expertStaticFillComplete(C.getDomainMap(), C.getRangeMap());
-    RCP<CrsMatrix> wrapped = Teuchos::rcp(new Xpetra::TpetraCrsMatrix<SC, LO, GO, NO>(sum));
-    return Teuchos::rcp(new Xpetra::CrsMatrixWrap<SC, LO, GO, NO>(wrapped));
+    return MueLu::TpetraCrs_To_XpetraMatrix(sum);
   }
 
   RCP<Matrix> explicit_schur_complement(const RCP<Matrix>& C, const Matrix& B2, const Matrix& A_inverse,

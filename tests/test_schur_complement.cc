@@ -4,16 +4,13 @@
 // patterns, sorted and merged.
 #include "schur_complement.h"
 
-#include <Tpetra_Core.hpp>
+#include <MueLu_Utilities.hpp>
 #include <Tpetra_CrsMatrix.hpp>
-#include <Xpetra_CrsMatrixWrap.hpp>
 #include <Xpetra_MultiVectorFactory.hpp>
-#include <Xpetra_TpetraCrsMatrix.hpp>
 #include <gtest/gtest.h>
 
 #include "test_helpers.h"
 
-#include <cmath>
 #include <functional>
 #include <set>
 
@@ -45,8 +42,7 @@ namespace
         A->insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const SC>(vals));
       }
     A->fillComplete(domain, rows);
-    RCP<CrsMatrix> wrapped = Teuchos::rcp(new Xpetra::TpetraCrsMatrix<SC, LO, GO, NO>(A));
-    return Teuchos::rcp(new Xpetra::CrsMatrixWrap<SC, LO, GO, NO>(wrapped));
+    return MueLu::TpetraCrs_To_XpetraMatrix(A);
   }
 
   Teuchos::RCP<const TpetraMap> map_of(GO n)
