@@ -123,6 +123,46 @@ TEST_P(Coupling, RigidMotionLeavesNoGap)
 
 INSTANTIATE_TEST_SUITE_P(BeamSolid, Coupling, ::testing::Values("mortar", "gpts"));
 
+// The cells the partition balances besides the cell count (`Mesh/Balance coupling cells`):
+// exactly those a fibre's chord passes through, both neighbours where it runs along a face, none
+// outside the box.
+TEST(CrossedCells, MarksTheCellsAFibreCrosses)
+{
+  const std::vector<double> size{1, 1, 1};
+  const std::vector<int>    cells{4, 4, 4};
+  auto                      fibre = [](const Point<3>& a, const Point<3>& b, int elements) {
+    BeamMesh m;
+    add_straight_fibre(m, a, b, elements);
+    return m;
+  };
+  auto centre = [](int i, int j, int k) {
+    return Point<3>(0.25 * i + 0.125, 0.25 * j + 0.125, 0.25 * k + 0.125);
+  };
+
+  CrossedCells inside(size, cells); // along x through the cells (i, 1, 2)
+  inside.mark(fibre(Point<3>(0, 0.3, 0.6), Point<3>(1, 0.3, 0.6), 3));
+  EXPECT_EQ(inside.n_marked(), 4u);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_TRUE(inside.contains(centre(i, 1, 2)));
+  EXPECT_FALSE(inside.contains(centre(0, 2, 2)));
+
+  CrossedCells on_face(size, cells); // along x in the face y = 0.5 between rows 1 and 2
+  on_face.mark(fibre(Point<3>(0, 0.5, 0.1), Point<3>(1, 0.5, 0.1), 5));
+  EXPECT_EQ(on_face.n_marked(), 8u);
+  EXPECT_TRUE(on_face.contains(centre(3, 1, 0)) && on_face.contains(centre(3, 2, 0)));
+
+  CrossedCells inclined(size, cells); // rises through y = 0.25 at x = 0.7, in cell column i = 2
+  inclined.mark(fibre(Point<3>(0.1, 0.1, 0.1), Point<3>(0.9, 0.3, 0.1), 2));
+  EXPECT_EQ(inclined.n_marked(), 5u);
+  EXPECT_TRUE(inclined.contains(centre(2, 0, 0)) && inclined.contains(centre(2, 1, 0)));
+  EXPECT_TRUE(inclined.contains(centre(3, 1, 0)));
+  EXPECT_FALSE(inclined.contains(centre(3, 0, 0)));
+
+  CrossedCells leaving(size, cells); // half of it outside (x > 1): only the two cells inside
+  leaving.mark(fibre(Point<3>(0.6, 0.9, 0.9), Point<3>(1.6, 0.9, 0.9), 4));
+  EXPECT_EQ(leaving.n_marked(), 2u);
+}
+
 TEST(BeamSolid, CubeCaseNewton)
 {
   // The public case: 5 Newton steps to 1e-6 in one load step.

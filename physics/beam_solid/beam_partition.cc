@@ -5,6 +5,7 @@
 #include <boost/serialization/vector.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -145,5 +146,65 @@ namespace physics::beam_solid
         empty_part(static_cast<BeamIndex>(data.at(0)), static_cast<BeamIndex>(data.at(1)), rank, n_ranks);
     unpack(data, part);
     return part;
+  }
+
+  CrossedCells::CrossedCells(const std::vector<double>& size, const std::vector<int>& cells)
+  {
+    std::size_t n = 1;
+    for (int d = 0; d < 3; ++d)
+      {
+        size_[d]  = size.at(d);
+        cells_[d] = cells.at(d);
+        n *= static_cast<std::size_t>(cells_[d]);
+      }
+    flags_.assign(n, 0);
+  }
+
+  void CrossedCells::mark(const BeamMesh& mesh)
+  {
+    std::array<double, 3> width;
+    for (int d = 0; d < 3; ++d)
+      width[d] = size_[d] / cells_[d];
+    const double spacing = 0.25 * *std::min_element(width.begin(), width.end());
+    const double tol     = 1e-10 * spacing; // a sample this close to a face lies on it
+    for (const auto& element : mesh.elements)
+      {
+        const Point<3>& a       = mesh.nodes[element[0]];
+        const Point<3>& b       = mesh.nodes[element[1]];
+        const int       samples = 1 + static_cast<int>(std::ceil(a.distance(b) / spacing));
+        for (int s = 0; s <= samples; ++s)
+          {
+            const Point<3>     x = a + (b - a) * (static_cast<double>(s) / samples);
+            std::array<int, 3> lo, hi;
+            bool               inside = true;
+            for (int d = 0; d < 3; ++d)
+              {
+                lo[d]  = std::max(0, static_cast<int>(std::floor((x[d] - tol) / width[d])));
+                hi[d]  = std::min(cells_[d] - 1, static_cast<int>(std::floor((x[d] + tol) / width[d])));
+                inside = inside && lo[d] <= hi[d];
+              }
+            if (!inside)
+              continue;
+            for (int k = lo[2]; k <= hi[2]; ++k)
+              for (int j = lo[1]; j <= hi[1]; ++j)
+                for (int i = lo[0]; i <= hi[0]; ++i)
+                  flags_[i + static_cast<std::size_t>(cells_[0]) *
+                                 (j + static_cast<std::size_t>(cells_[1]) * k)] = 1;
+          }
+      }
+  }
+
+  bool CrossedCells::contains(const Point<3>& centre) const
+  {
+    std::array<std::size_t, 3> ijk;
+    for (int d = 0; d < 3; ++d)
+      ijk[d] = static_cast<std::size_t>(
+          std::clamp(static_cast<int>(std::floor(centre[d] / size_[d] * cells_[d])), 0, cells_[d] - 1));
+    return flags_[ijk[0] + cells_[0] * (ijk[1] + cells_[1] * ijk[2])] != 0;
+  }
+
+  std::size_t CrossedCells::n_marked() const
+  {
+    return static_cast<std::size_t>(std::count(flags_.begin(), flags_.end(), 1));
   }
 } // namespace physics::beam_solid

@@ -24,6 +24,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <vector>
 
 namespace physics::beam_solid
@@ -72,4 +73,29 @@ namespace physics::beam_solid
   /// rank's part only until the parts are sent, during setup; afterwards no rank stores more
   /// than its own part.
   DistributedBeam distribute_beam(const BeamMesh& whole, MPI_Comm comm);
+
+  /// The cells of the solid box [0, size] (cells[d] equal hexahedra along axis d) that beam
+  /// elements cross. The coupling integrates over exactly these cells (beam_solid_coupling.h),
+  /// and their solid rows are the dense ones of the preconditioner's Schur complement
+  /// S = K_SS - K_SB Â K_BS: a rank with more of them does more coupling work and holds a larger
+  /// S. Marked on a group root from the whole beam mesh, so that the partition can give every
+  /// rank its share of them (common/distributed_mesh.h); one flag per cell of the box.
+  class CrossedCells
+  {
+  public:
+    CrossedCells(const std::vector<double>& size, const std::vector<int>& cells);
+    /// Marks the cells the elements of `mesh` cross: each element's chord (the reference fibres
+    /// are straight) sampled at a quarter of the smallest cell width; a sample on a face marks
+    /// the cells on both sides. Points outside the box mark nothing (read_beam_mesh's caller
+    /// reports those).
+    void mark(const BeamMesh& mesh);
+    /// Is the cell with centre `centre` marked?
+    bool        contains(const dealii::Point<3>& centre) const;
+    std::size_t n_marked() const;
+
+  private:
+    std::array<double, 3> size_;
+    std::array<int, 3>    cells_;
+    std::vector<char>     flags_; ///< cell (i, j, k) at i + n_x (j + n_y k)
+  };
 } // namespace physics::beam_solid

@@ -403,7 +403,8 @@ namespace physics::beam_solid
                 ") outside the solid";
       }
     throw_if_any_rank_failed(error, comm);
-    n_points_ = Utilities::MPI::sum(points.size(), comm);
+    n_points_            = Utilities::MPI::sum(points.size(), comm);
+    max_points_per_rank_ = Utilities::MPI::max(points.size(), comm);
 
     // Partial rows j of B = [D, -M] from this rank's points, row j -> (x-component column ->
     // weight); the y and z columns follow the x column (beam: 6 DOFs per node, solid: node-major).

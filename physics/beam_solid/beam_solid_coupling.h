@@ -74,8 +74,10 @@ namespace physics::beam_solid
     /// Beam DOFs the local rows of B read (ghost them in the beam vector): those of the beam
     /// nodes next to this rank's nodes.
     const std::vector<GlobalIndex>& beam_dofs() const { return beam_dofs_; }
-    /// Number of integration points, on all ranks together.
+    /// Number of integration points, on all ranks together, and the most on one rank (they
+    /// lie in the rank's own cells: the partition's balance of the coupling work).
     std::size_t n_points() const { return n_points_; }
+    std::size_t max_points_per_rank() const { return max_points_per_rank_; }
 
     /// Gap per multiplier node and component, g_j = (D d_B - M d_S)_j, of this rank's beam
     /// nodes, from the beam DOFs (ghosted, incl. beam_dofs()) and the solid displacement
@@ -94,6 +96,6 @@ namespace physics::beam_solid
     std::map<BeamIndex, std::vector<Entry>> rows_;
     std::map<BeamIndex, double>             kappa_;
     std::vector<GlobalIndex>                solid_dofs_, beam_dofs_;
-    std::size_t                             n_points_ = 0;
+    std::size_t                             n_points_ = 0, max_points_per_rank_ = 0;
   };
 } // namespace physics::beam_solid

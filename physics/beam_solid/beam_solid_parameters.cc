@@ -21,6 +21,12 @@ namespace physics::beam_solid
     prm.declare_entry("Size", "1, 1, 1", Anything(),
                       "The solid is the generated box [0, a] x [0, b] x [0, c]: edge lengths in m (> 0).");
     prm.declare_entry("Cells", "4, 4, 4", Anything(), "Hexahedra per edge (3 integers >= 1).");
+    prm.declare_entry(
+        "Balance coupling cells", "true", dealii::Patterns::Bool(),
+        "Partition the box (METIS, one part per rank) so that every rank gets an equal share of the "
+        "cells the beams cross as well as of all cells: the coupling integrates over those cells, and "
+        "their solid rows are the dense rows of the Schur complement the saddle-point presets form, "
+        "so a rank with more of them assembles and stores more. false: equal numbers of cells only.");
     prm.leave_subsection();
 
     MaterialParameters::declare(prm, d, "the solid block", "N/m^2", "", false);
@@ -80,6 +86,7 @@ namespace physics::beam_solid
           throw std::invalid_argument("parameter 'Cells': expected integers >= 1, got " + std::to_string(v));
         cells.push_back(static_cast<int>(v));
       }
+    balance_coupling_cells = prm.get_bool("Balance coupling cells");
     prm.leave_subsection();
 
     MaterialParameters::parse(prm, false);

@@ -34,6 +34,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 
 namespace physics::beam_solid
 {
@@ -42,32 +43,54 @@ namespace physics::beam_solid
 
   namespace
   {
-    /// This rank's share (beam_partition.h) of the fibre bundle of the parameters: fibres_y x
-    /// fibres_z straight fibres from x = 0 to x = a, rising by tilt * c over their length. Fibre
-    /// f = j fibres_z + k has the global nodes f (E + 1) + i and elements f E + i (E elements per
-    /// fibre), the numbering of the whole bundle; a rank builds only the fibres its node block
-    /// meets, so no rank ever holds the whole bundle.
-    DistributedBeam generate_fibres(const BeamSolidParameters& p, unsigned int rank, unsigned int n_ranks)
+    /// Calls visit(f, fibre) for every fibre f = j fibres_z + k of the parameters' bundle (fibres_y
+    /// x fibres_z straight fibres from x = 0 to x = a, rising by tilt * c over their length; E
+    /// elements each, global nodes f (E + 1) + i and elements f E + i) for which wanted(f) holds,
+    /// one fibre at a time: no caller needs the whole bundle at once.
+    template <typename Wanted, typename Visit>
+    void for_each_fibre(const BeamSolidParameters& p, const Wanted& wanted, const Visit& visit)
     {
-      const BeamIndex n_elements = p.elements_per_fibre, n_fibres = p.fibres_y * p.fibres_z;
-      DistributedBeam part = empty_part(n_fibres * (n_elements + 1), n_fibres * n_elements, rank, n_ranks);
-      auto            coordinate = [&](int i, int n, double extent) {
+      auto coordinate = [&](int i, int n, double extent) {
         return n == 1 ? 0.5 * extent : extent * (p.fibre_margin + (1 - 2 * p.fibre_margin) * i / (n - 1.0));
       };
       for (int j = 0; j < p.fibres_y; ++j)
         for (int k = 0; k < p.fibres_z; ++k)
           {
-            const BeamIndex f = j * p.fibres_z + k, first = f * (n_elements + 1);
-            if (first >= part.end_owned || first + n_elements + 1 <= part.first_owned)
+            const BeamIndex f = j * p.fibres_z + k;
+            if (!wanted(f))
               continue;
             const double y = coordinate(j, p.fibres_y, p.size[1]), z = coordinate(k, p.fibres_z, p.size[2]);
             BeamMesh     fibre;
             add_straight_fibre(fibre, Point<3>(0, y, z), Point<3>(p.size[0], y, z + p.fibre_tilt * p.size[2]),
                                p.elements_per_fibre);
             fibre.check_and_set_tangents("Fibres");
-            add_share(fibre, first, f * n_elements, part);
+            visit(f, fibre);
           }
+    }
+
+    /// This rank's share (beam_partition.h) of the generated fibre bundle: only the fibres its
+    /// node block meets, so no rank ever holds the whole bundle.
+    DistributedBeam generate_fibres(const BeamSolidParameters& p, unsigned int rank, unsigned int n_ranks)
+    {
+      const BeamIndex n_elements = p.elements_per_fibre, n_fibres = p.fibres_y * p.fibres_z;
+      DistributedBeam part = empty_part(n_fibres * (n_elements + 1), n_fibres * n_elements, rank, n_ranks);
+      for_each_fibre(
+          p,
+          [&](BeamIndex f) {
+            const BeamIndex first = f * (n_elements + 1);
+            return first < part.end_owned && first + n_elements + 1 > part.first_owned;
+          },
+          [&](BeamIndex f, const BeamMesh& fibre) {
+            add_share(fibre, f * (n_elements + 1), f * n_elements, part);
+          });
       return part;
+    }
+
+    /// The whole beam mesh of a beam file, read on this rank alone (gmsh meshes a .geo here).
+    BeamMesh read_whole_beam_file(const BeamSolidParameters& p)
+    {
+      return read_beam_mesh(gmsh_mesh(p.beam_file, 1, p.beam_refinement, p.output_directory, MPI_COMM_SELF),
+                            p.beam_file);
     }
 
     class BeamSolidProblem : public SteppedProblem
@@ -119,8 +142,8 @@ namespace physics::beam_solid
       void set_nullspaces(multigrid::BlockSystem& system) const;
       void final_state(BeamSolidRunSummary& summary);
       /// This rank's part of the beams (beam_partition.h): its share of the generated fibre grid,
-      /// or of a beam file read on rank 0.
-      void setup_beams();
+      /// or of the beam file `whole` that rank 0 read (empty elsewhere).
+      void setup_beams(BeamMesh whole);
       /// Is coupled-system DOF g a solid DOF with a Dirichlet constraint?
       bool constrained(GlobalIndex g) const
       {
@@ -182,15 +205,43 @@ namespace physics::beam_solid
       TimerOutput::Scope scope(timer_, "setup");
       prepare_output_directory(p_.output_directory, comm_);
       // Box with boundary ids 0..5 (x-, x+, y-, y+, z-, z+), built and partitioned by the group
-      // roots only (common/distributed_mesh.h).
-      create_distributed_mesh<3>(tria_, [this](Triangulation<3>& box) {
-        GridGenerator::subdivided_hyper_rectangle(box, {static_cast<unsigned>(p_.cells[0]),
-                                                        static_cast<unsigned>(p_.cells[1]),
-                                                        static_cast<unsigned>(p_.cells[2])},
-                                                  Point<3>(), Point<3>(p_.size[0], p_.size[1], p_.size[2]), true);
-        for (const auto& cell : box.active_cell_iterators()) // colorize also sets material ids
-          cell->set_material_id(0);
-      });
+      // roots only (common/distributed_mesh.h). With `Balance coupling cells` the roots also mark
+      // the cells the beams cross (beam_partition.h), from the whole beam file they read (rank
+      // 0 keeps it to distribute the beams) or fibre by fibre from the generated bundle, and the
+      // partition shares those out evenly as well.
+      BeamMesh                      whole_beams;
+      std::unique_ptr<CrossedCells> crossed;
+      CellMarker<3>                 coupling_cells;
+      if (p_.balance_coupling_cells)
+        coupling_cells = [&](const Triangulation<3>::active_cell_iterator& cell) {
+          return crossed->contains(cell->center());
+        };
+      create_distributed_mesh<3>(
+          tria_,
+          [&](Triangulation<3>& box) {
+            GridGenerator::subdivided_hyper_rectangle(
+                box,
+                {static_cast<unsigned>(p_.cells[0]), static_cast<unsigned>(p_.cells[1]),
+                 static_cast<unsigned>(p_.cells[2])},
+                Point<3>(), Point<3>(p_.size[0], p_.size[1], p_.size[2]), true);
+            for (const auto& cell : box.active_cell_iterators()) // colorize also sets material ids
+              cell->set_material_id(0);
+            if (!p_.beam_file.empty() && (rank_ == 0 || p_.balance_coupling_cells))
+              whole_beams = read_whole_beam_file(p_);
+            if (!p_.balance_coupling_cells)
+              return;
+            crossed = std::make_unique<CrossedCells>(p_.size, p_.cells);
+            if (p_.beam_file.empty())
+              for_each_fibre(
+                  p_, [](BeamIndex) { return true; },
+                  [&](BeamIndex, const BeamMesh& fibre) { crossed->mark(fibre); });
+            else
+              crossed->mark(whole_beams);
+          },
+          0, coupling_cells);
+      crossed.reset();
+      if (rank_ != 0)
+        whole_beams = BeamMesh();
       dof_handler_.distribute_dofs(fe_);
       owned_ = dof_handler_.locally_owned_dofs();
       DoFTools::extract_locally_relevant_dofs(dof_handler_, relevant_);
@@ -211,7 +262,7 @@ namespace physics::beam_solid
       const auto lame = LameParameters::from_young_poisson(p_.youngs_modulus, p_.poisson_ratio);
       model_.materials[0] = make_material<3>(p_.law, lame);
 
-      setup_beams();
+      setup_beams(std::move(whole_beams));
       section_ = BeamSection::circular(p_.beam_youngs_modulus, p_.fibre_radius);
 
       // The coupling is linear in the unknowns and tied to the reference configuration: its
@@ -261,38 +312,21 @@ namespace physics::beam_solid
       solid_vtk_ = std::make_unique<VtkSeries>(p_.output_directory, "solid", comm_);
       beam_pvd_  = std::make_unique<PvdSeries>(p_.output_directory + "/beams.pvd");
       pcout_ << "beam_solid: " << tria_.n_global_active_cells() << " solid cells (at most "
-             << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), " << dof_handler_.n_dofs()
-             << " solid DOFs, beams with " << beam_.n_elements << " elements (beam nodes stored on a rank: at most "
+             << Utilities::MPI::max(tria_.n_active_cells(), comm_) << " stored on a rank), "
+             << dof_handler_.n_dofs() << " solid DOFs, beams with " << beam_.n_elements
+             << " elements (beam nodes stored on a rank: at most "
              << Utilities::MPI::max(beam_.node_ids.size(), comm_) << " of " << beam_.n_nodes << "), "
              << beam_.n_dofs() << " beam DOFs, " << coupling_->n_points() << " coupling points ("
-             << p_.coupling << ", " << coupling_seconds << " s), " << n_ranks_ << " ranks, preset "
-             << p_.solver.preset << "\n";
+             << p_.coupling << ", at most " << coupling_->max_points_per_rank() << " on a rank, "
+             << coupling_seconds << " s), " << n_ranks_ << " ranks, preset " << p_.solver.preset << "\n";
     }
 
-    void BeamSolidProblem::setup_beams()
+    void BeamSolidProblem::setup_beams(BeamMesh whole)
     {
       if (p_.beam_file.empty())
-        {
-          beam_ = generate_fibres(p_, rank_, n_ranks_);
-          return;
-        }
-      // A beam file: rank 0 reads the whole mesh (gmsh meshes a .geo there, read_beam_mesh()
-      // orients and checks it; a temporary of setup) and sends every rank its part. An input
-      // error is thrown on every rank.
-      BeamMesh    whole;
-      std::string error;
-      if (rank_ == 0)
-        try
-          {
-            whole = read_beam_mesh(gmsh_mesh(p_.beam_file, 1, p_.beam_refinement, p_.output_directory, MPI_COMM_SELF),
-                                   p_.beam_file);
-          }
-        catch (const std::invalid_argument& e)
-          {
-            error = e.what();
-          }
-      throw_if_any_rank_failed(error, comm_);
-      beam_ = distribute_beam(whole, comm_);
+        beam_ = generate_fibres(p_, rank_, n_ranks_);
+      else // rank 0 read the whole mesh with the solid's (setup()) and sends every rank its part
+        beam_ = distribute_beam(whole, comm_);
     }
 
     multigrid::BlockSystem BeamSolidProblem::assemble(double load_factor)

@@ -31,6 +31,7 @@ namespace physics::beam_solid
     // Mesh: the solid is the box [0, size] with `cells` elements per edge
     std::vector<double> size{1.0, 1.0, 1.0};
     std::vector<int>    cells{4, 4, 4};
+    bool                balance_coupling_cells = true; ///< partition: equal shares of the cells beams cross
     // Fibres: a gmsh beam mesh (msh 2.2 lines, or a .geo meshed in 1D with `refine` =
     // beam_refinement), or else a grid of ny x nz straight fibres along x through the box
     std::string beam_file;
