@@ -57,6 +57,7 @@ namespace physics
     // Step control
     int    max_step_cuts = 5, growth_after = 2;
     double minimum_step_fraction = 1e-3;
+    bool   return_free_memory    = true;
     // Restart
     int         checkpoint_interval = 0;
     std::string resume_from;

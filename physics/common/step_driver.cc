@@ -26,7 +26,7 @@ namespace physics
     /// the main example here (the rings, 92 steps, 2 ranks: 83.8 / 84.1 s against 77.3 / 79.7 s),
     /// for 3 MB; on hardware without a hypervisor a page fault costs several times less. Trimming
     /// only where mallinfo2 reports more free than live memory did not help on the FSI tube
-    /// (rank 0 stayed at 692 MB).
+    /// (rank 0 stayed at 692 MB). `Step control/Return free memory = false` turns it off.
     void return_free_pages()
     {
 #ifdef __GLIBC__
@@ -165,7 +165,8 @@ namespace physics
         };
         const std::string prefix = "step" + std::to_string(number) + (attempt > 0 ? "." + std::to_string(attempt) : "");
         NewtonResult      newton_result = newton.solve(problem, fields, prefix);
-        return_free_pages();
+        if (settings.return_free_memory)
+          return_free_pages();
         if (newton_result.converged)
           {
             problem.end_step(number, t_new);

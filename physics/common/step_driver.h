@@ -38,6 +38,7 @@ namespace physics
     int         checkpoint_interval = 0; ///< converged steps between checkpoints (0: none)
     std::string checkpoint_root;         ///< where they go (the output directory's restart/)
     std::string resume_from;             ///< a checkpoint (or a checkpoint_root) to resume from
+    bool        return_free_memory = true; ///< malloc_trim after each step's Newton solve (step_driver.cc)
   };
 
   /// A NonlinearProblem that is advanced in load/time steps.
