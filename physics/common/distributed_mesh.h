@@ -29,7 +29,8 @@
 namespace physics
 {
   /// Marks the cells of a serial mesh whose work does not follow their number: the cells at a
-  /// contact surface, whose owners evaluate the mortar integrals of their faces. Empty: none.
+  /// contact surface, whose owners evaluate the mortar integrals of their faces, or the cells
+  /// beams cross (beam/solid coupling). Empty: none.
   template <int dim>
   using CellMarker = std::function<bool(const typename dealii::Triangulation<dim>::active_cell_iterator&)>;
 

@@ -102,7 +102,7 @@ namespace physics
         "malloc_trim; elsewhere nothing happens), so that the resident memory of a rank does not "
         "creep up over the steps with pages freed by the last assemblies and hierarchies. It keeps "
         "the peak memory per rank lower in long runs but costs time where pages are faulted in "
-        "again: measured on a virtual machine, 6-8 % of the rings example's wall time for 3 MB. "
+        "again: measured on a virtual machine, 6-18 % of the rings example's wall time for 3-10 MB. "
         "false: leave them to the allocator.");
     prm.leave_subsection();
 

@@ -24,7 +24,8 @@ namespace physics
     /// machine that cost 38 % more CPU time per run when done after every assembly and every
     /// solve (661 k page faults; 4 ranks: 617 MB). Once per step costs 6-8 % of the wall time of
     /// the main example here (the rings, 92 steps, 2 ranks: 83.8 / 84.1 s against 77.3 / 79.7 s),
-    /// for 3 MB; on hardware without a hypervisor a page fault costs several times less. Trimming
+    /// for 3 MB; again with the switch, alternating: 100.8 / 87.7 s against 85.7 / 76.1 s, for 8-10 MB
+    /// of peak; on hardware without a hypervisor a page fault costs several times less. Trimming
     /// only where mallinfo2 reports more free than live memory did not help on the FSI tube
     /// (rank 0 stayed at 692 MB). `Step control/Return free memory = false` turns it off.
     void return_free_pages()
