@@ -188,19 +188,17 @@ namespace physics::beam_solid
             for (int k = lo[2]; k <= hi[2]; ++k)
               for (int j = lo[1]; j <= hi[1]; ++j)
                 for (int i = lo[0]; i <= hi[0]; ++i)
-                  flags_[i + static_cast<std::size_t>(cells_[0]) *
-                                 (j + static_cast<std::size_t>(cells_[1]) * k)] = 1;
+                  flags_[index(i, j, k)] = 1;
           }
       }
   }
 
   bool CrossedCells::contains(const Point<3>& centre) const
   {
-    std::array<std::size_t, 3> ijk;
+    std::array<int, 3> ijk;
     for (int d = 0; d < 3; ++d)
-      ijk[d] = static_cast<std::size_t>(
-          std::clamp(static_cast<int>(std::floor(centre[d] / size_[d] * cells_[d])), 0, cells_[d] - 1));
-    return flags_[ijk[0] + cells_[0] * (ijk[1] + cells_[1] * ijk[2])] != 0;
+      ijk[d] = std::clamp(static_cast<int>(std::floor(centre[d] / size_[d] * cells_[d])), 0, cells_[d] - 1);
+    return flags_[index(ijk[0], ijk[1], ijk[2])] != 0;
   }
 
   std::size_t CrossedCells::n_marked() const

@@ -94,8 +94,16 @@ namespace physics::beam_solid
     std::size_t n_marked() const;
 
   private:
+    /// Position of cell (i, j, k) in flags_.
+    std::size_t index(int i, int j, int k) const
+    {
+      return static_cast<std::size_t>(i) +
+             static_cast<std::size_t>(cells_[0]) *
+                 (static_cast<std::size_t>(j) + static_cast<std::size_t>(cells_[1]) * k);
+    }
+
     std::array<double, 3> size_;
     std::array<int, 3>    cells_;
-    std::vector<char>     flags_; ///< cell (i, j, k) at i + n_x (j + n_y k)
+    std::vector<char>     flags_; ///< one per cell, at index(i, j, k)
   };
 } // namespace physics::beam_solid
