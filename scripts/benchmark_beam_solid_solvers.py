@@ -91,7 +91,7 @@ def main():
             results.append(r)
             status = "converged" if r["converged"] else f"NOT converged (exit {r['exit']})"
             if r["converged"] and not r["linear_converged"]:
-                status += ", some GMRES solves hit the limit"
+                status += ", some GMRES solves stopped above the tolerance"
             avg = f"{r['avg']:9.1f}" if r["avg"] is not None else f"{'-':>9}"
             print(f"{name:25} {level:2d} {r['dofs'] or 0:7d} {r['newton']:6d} {avg} {r['max'] or 0:5d} "
                   f"{r['setup']:8.2f} {r['solve']:8.2f} {r['operator_complexity'] or 0:5.2f} "
