@@ -112,7 +112,8 @@ def solver_comparison(rows, path):
 
 def weak_scaling(rows, path, title):
     """Iterations, seconds and parallel efficiency against the number of ranks (log2 axis).
-    Efficiency of a weak-scaling run: E(p) = T(1) / T(p), 1 when the time stays constant."""
+    Efficiency of a weak-scaling run: E(p) = T(1) / T(p), 1 when the time stays constant; per
+    Newton step (T(1) / N(1)) / (T(p) / N(p)), which does not count a different Newton path."""
     rows = sorted(rows, key=lambda r: r["ranks"])
     ranks = [r["ranks"] for r in rows]
     fig, axes = plt.subplots(1, 3, figsize=(12.0, 4.5))
@@ -133,7 +134,8 @@ def weak_scaling(rows, path, title):
     ax.set_ylim(bottom=0)
     ax.set_title("time")
     ax = axes[2]
-    for key, label in (("efficiency_wall", "wall"), ("efficiency_solve", "setup + solve")):
+    for key, label in (("efficiency_wall", "wall"), ("efficiency_newton", "wall per Newton step"),
+                       ("efficiency_solve", "setup + solve")):
         if all(r.get(key) is not None for r in rows):
             ax.plot(ranks, [r[key] for r in rows], "o-", label=label)
     ax.axhline(1.0, color="grey", lw=0.8)

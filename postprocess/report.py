@@ -40,7 +40,8 @@ SCALING_COLUMNS = [("ranks", "ranks", 0), ("oversubscribed", "oversubscribed", 0
                    ("op. cx", "operator_complexity", 3), ("peak MB/rank max", "peak_memory_mb_max", 4),
                    ("on rank", "peak_memory_max_rank", 0),
                    ("peak MB/rank mean", "peak_memory_mb_mean", 4),
-                   ("eff. wall", "efficiency_wall", 3), ("eff. setup+solve", "efficiency_solve", 3),
+                   ("eff. wall", "efficiency_wall", 3), ("eff. wall per Newton step", "efficiency_newton", 3),
+                   ("eff. setup+solve", "efficiency_solve", 3),
                    ("exit", "exit_status", 0)]
 
 

@@ -26,7 +26,9 @@ Figures per run: DOFs, ranks, Newton steps, step cuts, average/largest GMRES per
 the average over the accepted steps' Newton steps only, which compares sizes whose steps were cut at
 different places), setup, solve and assembly seconds (sums over the Newton steps), wall seconds,
 operator complexity (largest), peak memory per rank (the largest, the rank holding it, the mean),
-parallel efficiency T(1)/T(p) of the wall time and of setup + solve.
+parallel efficiency T(1)/T(p) of the wall time and of setup + solve, and of the wall time per
+Newton step (T(1)/N(1)) / (T(p)/N(p)): sizes whose Newton paths differ (a step cut at one size and
+not at another, which the rings' active-set cycling does) are compared on the cost of a step.
 """
 import argparse
 import csv
@@ -49,7 +51,8 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 FIELDS = ["ranks", "oversubscribed", "dofs", "dofs_per_rank", "mesh", "load_steps", "newton_steps",
           "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
           "assembly_seconds", "wall_seconds", "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank",
-          "peak_memory_mb_mean", "efficiency_wall", "efficiency_solve", "converged", "exit_status", "run"]
+          "peak_memory_mb_mean", "efficiency_wall", "efficiency_newton", "efficiency_solve", "converged",
+          "exit_status", "run"]
 # What a study needs per run and where it comes from when the log lacks it.
 NOT_IN_LOGS = {"ranks": "the study plan (study.json)", "wall_seconds": "job.json (measured by the launcher)"}
 
@@ -169,7 +172,7 @@ def collect(directory):
         for key in FIELDS:
             row.setdefault(key, None)
             # what a finished run's log and job.json lack (not what a run not yet done lacks)
-            if row[key] is None and row["run"] not in without_log and key not in ("efficiency_wall", "efficiency_solve"):
+            if row[key] is None and row["run"] not in without_log and not key.startswith("efficiency_"):
                 missing.add(key)
     result = {"class": study["class"], "description": study["description"],
               "dofs_per_rank_target": study["dofs_per_rank_target"], "cores": study["cores"], "rows": rows,
@@ -184,13 +187,16 @@ def collect(directory):
 
 
 def add_efficiency(rows):
-    """Weak-scaling efficiency against the smallest rank count: T(p_min) / T(p)."""
+    """Weak-scaling efficiency against the smallest rank count: T(p_min) / T(p) of the wall time
+    and of setup + solve, and of the wall time per Newton step."""
     base = min(rows, key=lambda r: r["ranks"]) if rows else None
     for r in rows:
         for key, parts in (("efficiency_wall", ("wall_seconds",)), ("efficiency_solve", ("setup_seconds", "solve_seconds"))):
             if all(base.get(k) is not None and r.get(k) is not None for k in parts):
                 t0, t = sum(base[k] for k in parts), sum(r[k] for k in parts)
                 r[key] = t0 / t if t > 0 else None
+        if r.get("efficiency_wall") is not None and base.get("newton_steps") and r.get("newton_steps"):
+            r["efficiency_newton"] = r["efficiency_wall"] * r["newton_steps"] / base["newton_steps"]
 
 
 def growth(rows, key):

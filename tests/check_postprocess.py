@@ -172,6 +172,10 @@ def weak(args):
               f"{collection}: np{r['ranks']} mean peak memory above the largest")
         check(r["oversubscribed"] == (r["ranks"] > 1), f"{collection}: np{r['ranks']} oversubscribed flag wrong")
     check(rows[0]["efficiency_wall"] == 1.0, f"{collection}: efficiency of the first size {rows[0]['efficiency_wall']}")
+    for r in rows:
+        expected = (rows[0]["wall_seconds"] / rows[0]["newton_steps"]) / (r["wall_seconds"] / r["newton_steps"])
+        check(r.get("efficiency_newton") is not None and abs(r["efficiency_newton"] - expected) < 1e-9 * expected,
+              f"{collection}: np{r['ranks']} efficiency per Newton step {r.get('efficiency_newton')}, expected {expected}")
     check(not result["missing"], f"{collection}: figures missing from the logs: {result['missing']}")
     out = os.path.join(args.work, "rendered")
     tool("render_all.py", study, "--out", out)
