@@ -19,6 +19,13 @@ namespace physics::contact
 {
   using namespace physics::mortar; // the mortar integration shared with the FSI class (common/)
   using AD = Sacado::Fad::DFad<double>;
+  /// The AD number of one slave/master face pair: the positions of both faces' vertices (at most
+  /// 2 x 2 in 2D, 2 x 4 in 3D), held in the number itself. A DFad allocates its derivatives on the
+  /// heap, and the pair loop creates and destroys thousands of them per face pair.
+  template <int dim>
+  constexpr int max_pair_variables = 2 * (1 << (dim - 1)) * dim;
+  template <int dim>
+  using PairAD = Sacado::Fad::SLFad<double, max_pair_variables<dim>>;
 
   namespace
   {
@@ -31,12 +38,13 @@ namespace physics::contact
 
     /// Positions of a list of nodes as AD variables 0 .. n*dim-1 (variable i*dim+d = node i, axis d).
     template <int dim>
-    std::vector<Point<AD, dim>> seed(const std::vector<std::array<double, dim>>& x, int n_vars, int first)
+    std::vector<Point<PairAD<dim>, dim>> seed(const std::vector<std::array<double, dim>>& x, int n_vars,
+                                              int first)
     {
-      std::vector<Point<AD, dim>> r(x.size());
+      std::vector<Point<PairAD<dim>, dim>> r(x.size());
       for (std::size_t i = 0; i < x.size(); ++i)
         for (int d = 0; d < dim; ++d)
-          r[i][d] = AD(n_vars, first + static_cast<int>(i) * dim + d, x[i][d]);
+          r[i][d] = PairAD<dim>(n_vars, first + static_cast<int>(i) * dim + d, x[i][d]);
       return r;
     }
 
@@ -116,9 +124,13 @@ namespace physics::contact
             std::vector<std::array<double, dim>> xm;
             for (unsigned int l : mf)
               xm.push_back(master_x[l]);
-            const int  ns = sf.size(), nm = mf.size(), n_vars = (ns + nm) * dim;
+            const int ns = sf.size(), nm = mf.size(), n_vars = (ns + nm) * dim;
+            if (n_vars > max_pair_variables<dim>)
+              throw std::logic_error("mortar contact: a face pair with " + std::to_string(ns) + " + " +
+                                     std::to_string(nm) + " vertices (linear faces have at most " +
+                                     std::to_string(1 << (dim - 1)) + ")");
             const auto ads = seed<dim>(xs, n_vars, 0), adm = seed<dim>(xm, n_vars, ns * dim);
-            const auto pair = integrate_pair<AD, dim>(ads, adm, settings_.dual);
+            const auto pair = integrate_pair<PairAD<dim>, dim>(ads, adm, settings_.dual);
             if (!pair.overlap)
               continue;
             // DOF of AD variable i.
@@ -133,7 +145,7 @@ namespace physics::contact
                 // v_j partial = sum_l M_jl x_l - sum_k D_jk x_k, with its gradient.
                 for (int d = 0; d < dim; ++d)
                   {
-                    AD v = 0.0;
+                    PairAD<dim> v = 0.0;
                     for (int l = 0; l < nm; ++l)
                       v += pair.M[a][l] * adm[l][d];
                     for (int k = 0; k < ns; ++k)
@@ -145,7 +157,7 @@ namespace physics::contact
                     if (!friction)
                       continue;
                     // Slip: v_j minus the same sums with the step's start positions.
-                    AD slip = v;
+                    PairAD<dim> slip = v;
                     for (int l = 0; l < nm; ++l)
                       slip -= pair.M[a][l] * master_start_[mf[l]][d];
                     for (int k = 0; k < ns; ++k)
