@@ -149,15 +149,20 @@ namespace physics::fsi
     match_interface();
 
     // The structure values the owned fluid and ALE interface DOFs read (sync_interface).
-    solid_ghosts_ = solid_relevant_;
+    // Collected and added at once (IndexSet::add_index below the set's last index inserts into
+    // the middle of its range list: quadratic in the number of indices).
+    std::vector<GlobalIndex> read;
     for (const auto& [f, row] : fluid_partner_)
       if (fluid_owned_.is_element(f))
         for (const auto& [s, w] : row)
-          solid_ghosts_.add_index(s);
+          read.push_back(s);
     for (const auto& [m, row] : mesh_partner_)
       if (mesh_owned_.is_element(m))
         for (const auto& [s, w] : row)
-          solid_ghosts_.add_index(s);
+          read.push_back(s);
+    std::sort(read.begin(), read.end());
+    solid_ghosts_ = solid_relevant_;
+    solid_ghosts_.add_indices(read.begin(), read.end());
     for (auto* v : {&d_S_, &d_S_old_, &d_S_older_, &d_S_rate_, &d_S_begin_, &dd_S_})
       v->reinit(solid_owned_, comm_);
     d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
