@@ -16,6 +16,9 @@
 #include <MueLu_SmootherFactory.hpp>
 #include <MueLu_SmootherPrototype.hpp>
 #include <MueLu_Monitor.hpp>
+#include <MueLu_Utilities.hpp>
+
+#include <Tpetra_CrsMatrix.hpp>
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_BlockedMultiVector.hpp>
@@ -441,50 +444,76 @@ namespace multigrid
     return Teuchos::rcp(new SuperLUSmoother(A));
   }
 
-  RCP<Matrix> segregated_matrix(const Matrix& A, const MultiVector& labels)
+  RCP<Matrix> segregated_matrix(const Matrix& A_matrix, const MultiVector& labels)
   {
+    using TpetraCrs    = Tpetra::CrsMatrix<SC, LO, GO, NO>;
+    const TpetraCrs& A = Xpetra::Helpers<SC, LO, GO, NO>::Op2TpetraCrs(A_matrix);
+
     // Label of every row (looked up by global id), then of every column (imported: the column
     // owner decides).
-    auto       row_labels = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getRowMap(), true);
+    auto row_labels = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A_matrix.getRowMap(), true);
     {
       auto        data  = row_labels->getDataNonConst(0);
       const auto  given = labels.getData(0);
       const auto  map   = labels.getMap(); // Xpetra wraps a new map object on every call: keep it
+      const auto& rows  = *A.getRowMap();
       for (decltype(data.size()) i = 0; i < data.size(); ++i)
         {
-          const LO k = map->getLocalElement(A.getRowMap()->getGlobalElement(i));
+          const LO k = map->getLocalElement(rows.getGlobalElement(i));
           if (k == Teuchos::OrdinalTraits<LO>::invalid())
             throw std::invalid_argument("segregated_matrix: no body label for row " +
-                                        std::to_string(A.getRowMap()->getGlobalElement(i)));
+                                        std::to_string(rows.getGlobalElement(i)));
           data[i] = given[k];
         }
     }
-    auto col_labels = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getColMap(), true);
-    auto importer   = Xpetra::ImportFactory<LO, GO, NO>::Build(A.getRowMap(), A.getColMap());
+    auto col_labels = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A_matrix.getColMap(), true);
+    auto importer   = Xpetra::ImportFactory<LO, GO, NO>::Build(A_matrix.getRowMap(), A_matrix.getColMap());
     col_labels->doImport(*row_labels, *importer, Xpetra::INSERT);
     const auto row_label = row_labels->getData(0);
     const auto col_label = col_labels->getData(0);
 
-    RCP<Matrix> filtered = Xpetra::MatrixFactory<SC, LO, GO, NO>::Build(A.getRowMap(), A.getColMap(),
-                                                                        A.getNodeMaxNumRowEntries());
-    for (std::size_t i = 0; i < A.getNodeNumRows(); ++i)
+    // The kept entries in compressed rows, in A's column ids, counted first so that the arrays
+    // are allocated once and exactly. (Inserting row by row into a matrix sized for A's longest
+    // row allocated and zeroed rows x that length, which for the contact rows' long multiplier
+    // couplings was most of the filter's time.) The filtered matrix keeps A's column map, so it
+    // keeps A's importer too: no fillComplete has to find the column owners again.
+    const auto n_rows = static_cast<LO>(A.getNodeNumRows());
+    const auto kept   = [&](LO i, LO column) { return row_label[i] == col_label[column]; };
+    typename TpetraCrs::local_graph_device_type::row_map_type::non_const_type offsets("row offsets",
+                                                                                      n_rows + 1);
+    typename TpetraCrs::local_inds_host_view_type                             columns;
+    typename TpetraCrs::values_host_view_type                                 values;
+    for (LO i = 0; i < n_rows; ++i)
       {
-        Teuchos::ArrayView<const LO> cols;
-        Teuchos::ArrayView<const SC> vals;
-        A.getLocalRowView(i, cols, vals);
-        std::vector<LO> keep_cols;
-        std::vector<SC> keep_vals;
-        for (LO k = 0; k < cols.size(); ++k)
-          if (row_label[i] == col_label[cols[k]])
-            {
-              keep_cols.push_back(cols[k]);
-              keep_vals.push_back(vals[k]);
-            }
-        filtered->insertLocalValues(i, keep_cols, keep_vals);
+        A.getLocalRowView(i, columns, values);
+        std::size_t n = 0;
+        for (std::size_t k = 0; k < columns.extent(0); ++k)
+          n += kept(i, columns(k));
+        offsets(i + 1) = offsets(i) + n;
       }
-    filtered->fillComplete(A.getDomainMap(), A.getRangeMap());
-    filtered->SetFixedBlockSize(A.GetFixedBlockSize());
-    return filtered;
+    typename TpetraCrs::local_graph_device_type::entries_type::non_const_type kept_columns(
+        Kokkos::ViewAllocateWithoutInitializing("column indices"), offsets(n_rows));
+    typename TpetraCrs::local_matrix_device_type::values_type kept_values(
+        Kokkos::ViewAllocateWithoutInitializing("values"), offsets(n_rows));
+    for (LO i = 0; i < n_rows; ++i)
+      {
+        A.getLocalRowView(i, columns, values);
+        std::size_t n = offsets(i);
+        for (std::size_t k = 0; k < columns.extent(0); ++k)
+          if (kept(i, columns(k)))
+            {
+              kept_columns(n) = columns(k);
+              kept_values(n)  = values(k);
+              ++n;
+            }
+      }
+    auto filtered =
+        Teuchos::rcp(new TpetraCrs(A.getRowMap(), A.getColMap(), offsets, kept_columns, kept_values));
+    filtered->expertStaticFillComplete(A.getDomainMap(), A.getRangeMap(), A.getGraph()->getImporter(),
+                                       A.getGraph()->getExporter());
+    RCP<Matrix> result = MueLu::TpetraCrs_To_XpetraMatrix(filtered);
+    result->SetFixedBlockSize(A_matrix.GetFixedBlockSize());
+    return result;
   }
 
   RCP<Matrix> segregated_matrix(const Matrix& A, const Map& set)
