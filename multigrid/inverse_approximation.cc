@@ -94,6 +94,40 @@ namespace multigrid
       return imported;
     }
 
+    /// min ||C x - rhs||_2 for the m x n matrix C (column-major, m >= n expected, full column
+    /// rank), by Householder QR: C = Q R, x = R^-1 (Q^T rhs)(1..n), left in rhs(1..n). C and
+    /// rhs are overwritten. LAPACK's GELS does the same after scaling C where its largest entry
+    /// is near over- or underflow, which a stiffness block never is; its max-norm scan, with a
+    /// NaN test by function call for every entry, was a third of the SPAI set-up's LAPACK time
+    /// (beam/solid, 20 k DOFs). m < n (no row block that tall: a pattern whose columns lack their
+    /// diagonal) goes to GELS's minimum-norm solution. false: rank deficient.
+    bool least_squares(int m, int n, std::vector<SC>& C, std::vector<SC>& rhs,
+                       const Teuchos::LAPACK<int, double>& lapack, std::vector<SC>& tau,
+                       std::vector<SC>& work)
+    {
+      constexpr int block = 64; // work per column: LAPACK's blocked QR needs n x its block size
+      work.resize(static_cast<std::size_t>(block) * std::max(n, 1));
+      const int lwork = static_cast<int>(work.size());
+      int       info  = 0;
+      if (m < n)
+        {
+          lapack.GELS('N', m, n, 1, C.data(), m, rhs.data(), std::max(m, n), work.data(), lwork, &info);
+          return info == 0;
+        }
+      tau.resize(n);
+      lapack.GEQRF(m, n, C.data(), m, tau.data(), work.data(), lwork, &info);
+      if (info != 0)
+        return false;
+      // Q^T rhs with the minimal workspace (one entry for one right-hand side): ORMQR then
+      // applies the reflectors one by one, O(m n), instead of forming the blocked
+      // representation's triangular factors, O(m n^2), which a single vector does not repay.
+      lapack.ORMQR('L', 'T', m, 1, n, C.data(), m, tau.data(), rhs.data(), m, work.data(), 1, &info);
+      if (info != 0)
+        return false;
+      lapack.TRTRS('U', 'N', 'N', n, 1, C.data(), m, rhs.data(), m, &info); // info > 0: R(i,i) = 0
+      return info == 0;
+    }
+
     /// Least-squares SPAI, row by row on A^T (see the header).
     RCP<TpetraMatrix> spai(const TpetraMatrix& A, const InverseApproximationOptions& options)
     {
@@ -111,8 +145,9 @@ namespace multigrid
       // Tpetra 13.2 allocates rows statically: room for the longest pattern row (+ diagonal).
       auto At_inverse = rcp(new TpetraMatrix(At->getRowMap(), pattern->getNodeMaxNumRowEntries() + 1));
       Teuchos::LAPACK<int, double> lapack;
-      std::vector<GO>        J, cols;
-      std::vector<SC>        vals, C, rhs, work;
+      std::vector<GO>                             J, I, cols;
+      std::vector<SC>                             vals, C, rhs, tau, work;
+      std::vector<std::vector<std::pair<GO, SC>>> rows_of_J;
       for (LO k = 0; k < static_cast<LO>(pattern->getNodeNumRows()); ++k)
         {
           const GO row = pattern->getRowMap()->getGlobalElement(k);
@@ -127,39 +162,36 @@ namespace multigrid
               J.push_back(cols[q]);
           if (std::find(J.begin(), J.end(), row) == J.end())
             J.push_back(row);
-          // I_k and the dense block C = A(I_k, J_k) (column-major, leading dimension |I_k|).
-          std::map<GO, int> I;
-          std::vector<std::vector<std::pair<GO, SC>>> rows_of_J(J.size());
+          // I_k, the rows that J_k's columns reach, as a sorted list (sorting the gathered ids
+          // once costs a fraction of inserting them one by one into a search tree, which was
+          // half of the SPAI set-up), and the dense block C = A(I_k, J_k) (column-major, leading
+          // dimension |I_k|).
+          I.clear();
+          rows_of_J.resize(J.size());
           for (std::size_t j = 0; j < J.size(); ++j)
             {
               global_row(*columns, columns->getRowMap()->getLocalElement(J[j]), cols, vals);
+              rows_of_J[j].clear();
               for (std::size_t q = 0; q < cols.size(); ++q)
-                {
-                  I.emplace(cols[q], 0);
-                  rows_of_J[j].emplace_back(cols[q], vals[q]);
-                }
+                rows_of_J[j].emplace_back(cols[q], vals[q]);
+              I.insert(I.end(), cols.begin(), cols.end());
             }
-          int position = 0;
-          for (auto& [gid, index] : I)
-            index = position++;
+          std::sort(I.begin(), I.end());
+          I.erase(std::unique(I.begin(), I.end()), I.end());
+          const auto position = [&I](GO gid) {
+            return std::lower_bound(I.begin(), I.end(), gid) - I.begin();
+          };
           const int m = static_cast<int>(I.size()), n = static_cast<int>(J.size());
           C.assign(static_cast<std::size_t>(m) * n, 0.0);
           for (int j = 0; j < n; ++j)
             for (const auto& [gid, value] : rows_of_J[j])
-              C[static_cast<std::size_t>(j) * m + I[gid]] = value;
+              C[static_cast<std::size_t>(j) * m + position(gid)] = value;
           rhs.assign(std::max(m, n), 0.0);
-          if (const auto diagonal = I.find(row); diagonal != I.end())
-            rhs[diagonal->second] = 1.0;
-          // min ||C x - e_k||_2 by QR (C has full column rank for a nonsingular A).
-          int info = 0;
-          work.resize(1);
-          lapack.GELS('N', m, n, 1, C.data(), m, rhs.data(), std::max(m, n), work.data(), -1, &info);
-          work.resize(static_cast<std::size_t>(work[0]));
-          lapack.GELS('N', m, n, 1, C.data(), m, rhs.data(), std::max(m, n), work.data(),
-                      static_cast<int>(work.size()), &info);
-          if (info != 0)
+          if (std::binary_search(I.begin(), I.end(), row))
+            rhs[position(row)] = 1.0;
+          if (!least_squares(m, n, C, rhs, lapack, tau, work))
             throw std::runtime_error("SPAI: least-squares problem of row " + std::to_string(row) +
-                                     " is rank deficient (LAPACK info " + std::to_string(info) + ")");
+                                     " is rank deficient");
           At_inverse->insertGlobalValues(row, Teuchos::ArrayView<const GO>(J.data(), n),
                                          Teuchos::ArrayView<const SC>(rhs.data(), n));
         }
