@@ -294,13 +294,8 @@ namespace physics::beam_solid
             read.push_back(column - n_beam);
           else
             read_beam.push_back(column);
-      for (auto* list : {&read, &read_beam})
-        {
-          std::sort(list->begin(), list->end());
-          list->erase(std::unique(list->begin(), list->end()), list->end());
-        }
-      ghosts_.add_indices(read.begin(), read.end());
-      beam_ghosts_.add_indices(read_beam.begin(), read_beam.end());
+      add_unsorted_indices(ghosts_, std::move(read));
+      add_unsorted_indices(beam_ghosts_, std::move(read_beam));
       beam_owned_ = beam_.owned_dofs();
       beam_ghosts_.add_indices(beam_owned_);
       d_beam_.reinit(beam_owned_, comm_);

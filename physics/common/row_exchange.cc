@@ -1,5 +1,6 @@
 #include "common/row_exchange.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -46,6 +47,13 @@ namespace physics
       if (owned_per_rank[r].is_element(index))
         return r;
     return 0;
+  }
+
+  void add_unsorted_indices(dealii::IndexSet& set, std::vector<GlobalIndex> indices)
+  {
+    std::sort(indices.begin(), indices.end());
+    indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+    set.add_indices(indices.begin(), indices.end());
   }
 
   RowPieces send_rows_to_owners(RowPieces rows, const std::function<unsigned int(GlobalIndex)>& owner,

@@ -148,9 +148,8 @@ namespace physics::fsi
         mesh_dofs_, MeshMotionSettings{p_.ale_poisson_ratio, p_.ale_stiffening}, comm_);
     match_interface();
 
-    // The structure values the owned fluid and ALE interface DOFs read (sync_interface).
-    // Collected and added at once (IndexSet::add_index below the set's last index inserts into
-    // the middle of its range list: quadratic in the number of indices).
+    // The structure values the owned fluid and ALE interface DOFs read (sync_interface),
+    // collected first and added at once.
     std::vector<GlobalIndex> read;
     for (const auto& [f, row] : fluid_partner_)
       if (fluid_owned_.is_element(f))
@@ -160,9 +159,8 @@ namespace physics::fsi
       if (mesh_owned_.is_element(m))
         for (const auto& [s, w] : row)
           read.push_back(s);
-    std::sort(read.begin(), read.end());
     solid_ghosts_ = solid_relevant_;
-    solid_ghosts_.add_indices(read.begin(), read.end());
+    add_unsorted_indices(solid_ghosts_, std::move(read));
     for (auto* v : {&d_S_, &d_S_old_, &d_S_older_, &d_S_rate_, &d_S_begin_, &dd_S_})
       v->reinit(solid_owned_, comm_);
     d_S_ghosted_.reinit(solid_owned_, solid_ghosts_, comm_);
