@@ -85,9 +85,12 @@ def render_all(root, out):
     os.makedirs(out, exist_ok=True)
     sections, manifest = [f"# Report: `{os.path.abspath(root)}`", ""], []
     if is_study:
-        _, info, text = weak_scaling.plot(root, out)
+        result, info, text = weak_scaling.plot(root, out)
         sections.append(text)
         manifest.append(info)
+        # a study's repeated rounds: the runs its table shows, not every round
+        shown = {os.path.join(os.path.abspath(root), r["run"]) for r in result["rows"]}
+        runs = [r for r in runs if os.path.abspath(r) in shown]
     elif len(runs) > 1:
         text, infos = compare_solvers.compare(runs, out)
         sections.append(text)

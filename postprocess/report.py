@@ -45,5 +45,17 @@ SCALING_COLUMNS = [("ranks", "ranks", 0), ("oversubscribed", "oversubscribed", 0
                    ("exit", "exit_status", 0)]
 
 
+REPEAT_COLUMNS = [("wall s median", "wall_seconds_median", 3), ("eff. wall median", "efficiency_wall_median", 3)]
+
+
+def scaling_columns(rows):
+    """SCALING_COLUMNS, with the repeats' median wall time and efficiency after the efficiencies
+    when a study ran its sizes more than once."""
+    if not any((r.get("repeats") or 1) > 1 for r in rows):
+        return SCALING_COLUMNS
+    at = [key for _, key, _ in SCALING_COLUMNS].index("efficiency_solve") + 1
+    return SCALING_COLUMNS[:at] + REPEAT_COLUMNS + SCALING_COLUMNS[at:]
+
+
 def image(info, caption):
     return f"![{caption}]({info['file']})"

@@ -2,9 +2,10 @@
 """Weak-scaling studies: the same DOFs per rank on 1, 2, 4, 8, ... ranks.
 
   weak_scaling.py plan    CLASS --dofs-per-rank N [--ranks 1 2 4 8]      the sizes, printed
-  weak_scaling.py run     CLASS --dofs-per-rank N --out DIR [--build build]
+  weak_scaling.py run     CLASS --dofs-per-rank N --out DIR [--build build] [--repeat K]
                           runs every size here with mpirun (--oversubscribe past the cores,
-                          which the table marks), then collects and plots
+                          which the table marks), then collects and plots; --repeat K runs the
+                          whole sequence of sizes K times, one round after the other
   weak_scaling.py slurm   CLASS --dofs-per-rank N --out DIR [--tasks-per-node 32 --time 01:00:00]
                           writes DIR/job_npR.sbatch per size, DIR/array_job.sbatch, DIR/submit_all.sh
   weak_scaling.py collect DIR      DIR/weak_scaling.json and .csv from the runs' logs, a table
@@ -29,11 +30,19 @@ operator complexity (largest), peak memory per rank (the largest, the rank holdi
 parallel efficiency T(1)/T(p) of the wall time and of setup + solve, and of the wall time per
 Newton step (T(1)/N(1)) / (T(p)/N(p)): sizes whose Newton paths differ (a step cut at one size and
 not at another, which the rings' active-set cycling does) are compared on the cost of a step.
+
+Repeats (--repeat K, for shared machines whose speed drifts by tens of percent within minutes):
+round k writes DIR/npR (k = 1) or DIR/npR-k, the rounds alternate the sizes, so that a slow
+spell of the machine falls on every size alike. A size's row is its fastest run that exited 0 (its
+log's figures, its wall time: interference from other jobs only ever adds time), with every
+round's wall time, their median and the efficiency of the medians beside it; the row says when
+the rounds took different Newton paths.
 """
 import argparse
 import csv
 import json
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -50,7 +59,8 @@ SOURCE = os.path.dirname(HERE)
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 FIELDS = ["ranks", "oversubscribed", "dofs", "dofs_per_rank", "mesh", "load_steps", "newton_steps",
           "step_cuts", "gmres_average", "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
-          "assembly_seconds", "wall_seconds", "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank",
+          "assembly_seconds", "wall_seconds", "repeats", "wall_seconds_median", "efficiency_wall_median",
+          "operator_complexity", "peak_memory_mb_max", "peak_memory_max_rank",
           "peak_memory_mb_mean", "efficiency_wall", "efficiency_newton", "efficiency_solve", "converged",
           "exit_status", "run"]
 # What a study needs per run and where it comes from when the log lacks it.
@@ -85,7 +95,8 @@ def study_description(args, cls, local=True):
                       "oversubscribed": local and entry["ranks"] > args.cores})
         runs.append(entry)
     return {"class": cls.name, "description": cls.description, "dofs_per_rank_target": args.dofs_per_rank,
-            "cores": args.cores, "directory": os.path.abspath(args.out) if args.out else None,
+            "cores": args.cores, "repeat": getattr(args, "repeat", 1),
+            "directory": os.path.abspath(args.out) if args.out else None,
             "app_path": os.path.join(os.path.abspath(args.app_dir), cls.app),
             "prm_path": os.path.join(data_dir, cls.prm), "runs": runs}
 
@@ -104,32 +115,46 @@ def write_study(study):
         json.dump(study, f, indent=1)
 
 
+def round_directory(run, k):
+    """The directory of round k (1, 2, ...) of a size's run: npR, then npR-2, npR-3, ..."""
+    return run if k == 1 else f"{run}-{k}"
+
+
 def run_locally(study, timeout):
-    """Every size with mpirun here, one after the other; job.json beside each run's log."""
+    """Every size with mpirun here, one after the other (`repeat` rounds of them); job.json beside
+    each run's log."""
     if not os.access(study["app_path"], os.X_OK):
         raise InputError(f"{study['app_path']}: no such app (build it, or name the build with --build)")
     env = dict(os.environ, **MPI_ENV)
     failed = 0
-    for e in study["runs"]:
-        run_dir = os.path.join(study["directory"], e["run"])
-        os.makedirs(run_dir, exist_ok=True)
-        cmd = ["mpirun", "-np", str(e["ranks"])] + (["--oversubscribe"] if e["oversubscribed"] else [])
-        cmd += [study["app_path"], study["prm_path"]]
-        for key, value in dict(e["settings"], **{"Output/Directory": run_dir}).items():
-            cmd += ["--set", f"{key}={value}"]
-        start = time.time()
-        with open(os.path.join(run_dir, "console.txt"), "w") as console:
-            try:
-                status = subprocess.run(cmd, stdout=console, stderr=subprocess.STDOUT, env=env, timeout=timeout).returncode
-            except subprocess.TimeoutExpired:
-                status = 124
-        wall = time.time() - start
-        with open(os.path.join(run_dir, "job.json"), "w") as f:
-            json.dump({"ranks": e["ranks"], "exit_status": status, "wall_seconds": wall,
-                       "oversubscribed": e["oversubscribed"], "launcher": "mpirun", "command": cmd}, f, indent=1)
-        print(f"np{e['ranks']}: exit {status}, {wall:.1f} s", flush=True)
-        failed += status != 0
+    rounds = study.get("repeat", 1)
+    for k in range(1, rounds + 1):
+        for e in study["runs"]:
+            name = round_directory(e["run"], k)
+            status, wall = run_one(study, e, os.path.join(study["directory"], name), env, timeout)
+            print(f"{name}: exit {status}, {wall:.1f} s", flush=True)
+            failed += status != 0
     return failed
+
+
+def run_one(study, e, run_dir, env, timeout):
+    """One run of size `e` into `run_dir`: the app's output, console.txt and job.json."""
+    os.makedirs(run_dir, exist_ok=True)
+    cmd = ["mpirun", "-np", str(e["ranks"])] + (["--oversubscribe"] if e["oversubscribed"] else [])
+    cmd += [study["app_path"], study["prm_path"]]
+    for key, value in dict(e["settings"], **{"Output/Directory": run_dir}).items():
+        cmd += ["--set", f"{key}={value}"]
+    start = time.time()
+    with open(os.path.join(run_dir, "console.txt"), "w") as console:
+        try:
+            status = subprocess.run(cmd, stdout=console, stderr=subprocess.STDOUT, env=env, timeout=timeout).returncode
+        except subprocess.TimeoutExpired:
+            status = 124
+    wall = time.time() - start
+    with open(os.path.join(run_dir, "job.json"), "w") as f:
+        json.dump({"ranks": e["ranks"], "exit_status": status, "wall_seconds": wall,
+                   "oversubscribed": e["oversubscribed"], "launcher": "mpirun", "command": cmd}, f, indent=1)
+    return status, wall
 
 
 def load_study(directory):
@@ -143,29 +168,50 @@ def load_study(directory):
         raise InputError(f"{path}: not a JSON study description")
 
 
+def run_row(directory, e, name):
+    """The figures of one run of size `e` (directory `name`): the plan's ranks and mesh, the log's
+    figures, the launcher's wall time."""
+    run_dir = os.path.join(directory, name)
+    row = {"ranks": e["ranks"], "oversubscribed": e["oversubscribed"], "mesh": e["mesh"], "run": name,
+           "dofs_planned": e["dofs"]}
+    job_file = os.path.join(run_dir, "job.json")
+    if os.path.exists(job_file):
+        with open(job_file) as f:
+            job = json.load(f)
+        row.update({"exit_status": job.get("exit_status"), "wall_seconds": job.get("wall_seconds")})
+    if os.path.exists(os.path.join(run_dir, "run_log.jsonl")):
+        s = RunLog(run_dir).summary()
+        row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "step_cuts", "gmres_average",
+                                      "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
+                                      "assembly_seconds", "operator_complexity", "peak_memory_mb_max",
+                                      "peak_memory_max_rank", "peak_memory_mb_mean", "converged")})
+        row["preset"] = s["preset"]
+        if row["dofs"] is not None:
+            row["dofs_per_rank"] = row["dofs"] / e["ranks"]
+    return row
+
+
+def size_row(directory, e, rounds):
+    """A size's row over its rounds: the fastest run that exited 0 (else the first round's), with
+    every round's wall time and their median."""
+    runs = [run_row(directory, e, round_directory(e["run"], k)) for k in range(1, rounds + 1)]
+    runs = [r for r in runs if r.get("exit_status") is not None or r.get("gmres_average") is not None] or runs[:1]
+    good = [r for r in runs if r.get("exit_status") == 0 and r.get("wall_seconds") is not None]
+    row = dict(min(good, key=lambda r: r["wall_seconds"]) if good else runs[0])
+    walls = sorted(r["wall_seconds"] for r in good)
+    row["repeats"] = len(runs)
+    row["wall_seconds_runs"] = [r.get("wall_seconds") for r in runs]
+    row["wall_seconds_median"] = statistics.median(walls) if walls else None
+    paths = {(r.get("newton_steps"), r.get("step_cuts"), r.get("gmres_average")) for r in good}
+    row["repeats_agree"] = len(paths) <= 1
+    return row
+
+
 def collect(directory):
-    """One row per size: the plan's ranks and mesh, the log's figures, the launcher's wall time."""
+    """One row per size (the fastest of its repeated runs), the efficiencies, the CSV and JSON."""
     study = load_study(directory)
-    rows, missing = [], set()
-    for e in study["runs"]:
-        run_dir = os.path.join(directory, e["run"])
-        row = {"ranks": e["ranks"], "oversubscribed": e["oversubscribed"], "mesh": e["mesh"], "run": e["run"],
-               "dofs_planned": e["dofs"]}
-        job_file = os.path.join(run_dir, "job.json")
-        if os.path.exists(job_file):
-            with open(job_file) as f:
-                job = json.load(f)
-            row.update({"exit_status": job.get("exit_status"), "wall_seconds": job.get("wall_seconds")})
-        if os.path.exists(os.path.join(run_dir, "run_log.jsonl")):
-            s = RunLog(run_dir).summary()
-            row.update({k: s[k] for k in ("dofs", "load_steps", "newton_steps", "step_cuts", "gmres_average",
-                                          "gmres_max", "gmres_average_accepted", "setup_seconds", "solve_seconds",
-                                          "assembly_seconds", "operator_complexity", "peak_memory_mb_max",
-                                          "peak_memory_max_rank", "peak_memory_mb_mean", "converged")})
-            row["preset"] = s["preset"]
-            if row["dofs"] is not None:
-                row["dofs_per_rank"] = row["dofs"] / e["ranks"]
-        rows.append(row)
+    missing = set()
+    rows = [size_row(directory, e, study.get("repeat", 1)) for e in study["runs"]]
     add_efficiency(rows)
     without_log = [r["run"] for r in rows if r.get("gmres_average") is None]
     for row in rows:
@@ -188,13 +234,16 @@ def collect(directory):
 
 def add_efficiency(rows):
     """Weak-scaling efficiency against the smallest rank count: T(p_min) / T(p) of the wall time
-    and of setup + solve, and of the wall time per Newton step."""
+    (the fastest round's, and the median of the rounds), of setup + solve, and of the wall time per
+    Newton step."""
     base = min(rows, key=lambda r: r["ranks"]) if rows else None
     for r in rows:
         for key, parts in (("efficiency_wall", ("wall_seconds",)), ("efficiency_solve", ("setup_seconds", "solve_seconds"))):
             if all(base.get(k) is not None and r.get(k) is not None for k in parts):
                 t0, t = sum(base[k] for k in parts), sum(r[k] for k in parts)
                 r[key] = t0 / t if t > 0 else None
+        if base.get("wall_seconds_median") and r.get("wall_seconds_median"):
+            r["efficiency_wall_median"] = base["wall_seconds_median"] / r["wall_seconds_median"]
         if r.get("efficiency_wall") is not None and base.get("newton_steps") and r.get("newton_steps"):
             r["efficiency_newton"] = r["efficiency_wall"] * r["newton_steps"] / base["newton_steps"]
 
@@ -211,7 +260,16 @@ def markdown(result, info):
     if any(r["oversubscribed"] for r in rows):
         lines.append(f"Run on {result['cores']} cores: the runs on more ranks are oversubscribed, "
                      "their times are not scaling figures.")
-    lines += ["", report.table(rows, report.SCALING_COLUMNS), ""]
+    lines += ["", report.table(rows, report.scaling_columns(rows)), ""]
+    if any(r.get("repeats", 1) > 1 for r in rows):
+        lines.append(f"Each size run {max(r['repeats'] for r in rows)} times, the rounds one after the other: "
+                     "its row is its fastest run (wall s), `wall s median` and `eff. wall median` are over "
+                     "every round; wall seconds of the rounds: "
+                     + "; ".join(f"np{r['ranks']} " + ", ".join(f"{w:.1f}" for w in r["wall_seconds_runs"] if w is not None)
+                                 for r in rows) + ".")
+        differ = [f"np{r['ranks']}" for r in rows if not r.get("repeats_agree", True)]
+        if differ:
+            lines.append(f"The rounds took different Newton paths (steps, cuts or GMRES counts) at {', '.join(differ)}.")
     g, m = growth(done, "gmres_average"), growth(done, "peak_memory_mb_max")
     a = growth(done, "gmres_average_accepted")
     if g:
@@ -245,7 +303,8 @@ def plot(directory, out=None):
 
 
 def print_collection(result):
-    print(report.table(sorted(result["rows"], key=lambda r: r["ranks"]), report.SCALING_COLUMNS))
+    rows = sorted(result["rows"], key=lambda r: r["ranks"])
+    print(report.table(rows, report.scaling_columns(rows)))
     if result["missing"]:
         print(f"missing from the logs or the study: {', '.join(result['missing'])}")
     if result["runs_without_log"]:
@@ -304,6 +363,8 @@ def arguments():
     study_options(p)
     p.add_argument("--out", required=True)
     p.add_argument("--timeout", type=float, default=3600, help="seconds per run (default 3600)")
+    p.add_argument("--repeat", type=int, default=1, help="rounds of the whole sequence of sizes (default 1); "
+                   "each size's row is its fastest round, with the median of the rounds beside it")
     p = sub.add_parser("slurm", help="write SLURM scripts of a study")
     study_options(p)
     slurm_options(p)
@@ -334,6 +395,8 @@ def main():
             return 0
         if args.command == "seeds":
             return seeds(args)
+        if getattr(args, "repeat", 1) < 1:
+            raise InputError(f"--repeat {args.repeat}: expected a positive number of rounds")
         study = study_description(args, study_classes.CLASSES[args.problem_class], local=args.command != "slurm")
         print_plan(study)
         if args.command == "plan":

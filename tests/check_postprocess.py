@@ -29,6 +29,7 @@ import json
 import math
 import os
 import re
+import statistics
 import struct
 import subprocess
 import sys
@@ -144,7 +145,8 @@ def weak(args):
     import study_classes
     study = os.path.join(args.work, "study")
     tool("weak_scaling.py", "run", args.problem_class, "--dofs-per-rank", args.dofs_per_rank, "--ranks", *args.ranks,
-         "--build", args.build, "--cores", 1, "--out", study, *sum((["--set", s] for s in args.set), []))
+         "--build", args.build, "--cores", 1, "--out", study, "--repeat", args.repeat,
+         *sum((["--set", s] for s in args.set), []))
     collection = os.path.join(study, "weak_scaling.json")
     if not check(os.path.exists(collection), f"{collection}: not written"):
         return
@@ -177,6 +179,7 @@ def weak(args):
         check(r.get("efficiency_newton") is not None and abs(r["efficiency_newton"] - expected) < 1e-9 * expected,
               f"{collection}: np{r['ranks']} efficiency per Newton step {r.get('efficiency_newton')}, expected {expected}")
     check(not result["missing"], f"{collection}: figures missing from the logs: {result['missing']}")
+    check_repeats(study, rows, args.repeat)
     out = os.path.join(args.work, "rendered")
     tool("render_all.py", study, "--out", out)
     with open(os.path.join(out, "manifest.json")) as f:
@@ -189,7 +192,33 @@ def weak(args):
         check(titles == ["iterations", "time", "efficiency"], f"{info['file']}: axes {titles}")
         check(all(s["points"] == len(rows) for a in info["axes"] for s in a["series"]),
               f"{info['file']}: series lengths {[[s['points'] for s in a['series']] for a in info['axes']]}")
-    check("oversubscribed" in open(os.path.join(out, "report.md")).read(), f"{out}/report.md: no oversubscription mark")
+    report_text = open(os.path.join(out, "report.md")).read()
+    check("oversubscribed" in report_text, f"{out}/report.md: no oversubscription mark")
+    sections = re.findall(r"^## Run `([^`]+)`", report_text, re.M)
+    check(sorted(sections) == sorted(r["run"] for r in rows),
+          f"{out}/report.md: run sections {sections}, expected the table's runs {[r['run'] for r in rows]}")
+
+
+def check_repeats(study, rows, repeat):
+    """Every round ran into its own directory; a size's row is its fastest round, with the median
+    of all rounds and the efficiency of the medians."""
+    for r in rows:
+        names = [f"np{r['ranks']}"] + [f"np{r['ranks']}-{k}" for k in range(2, repeat + 1)]
+        walls = []
+        for name in names:
+            job = os.path.join(study, name, "job.json")
+            if check(os.path.exists(job), f"{study}: round {name} has no job.json"):
+                walls.append(json.load(open(job))["wall_seconds"])
+        check(r["repeats"] == repeat and r["wall_seconds_runs"] == walls,
+              f"np{r['ranks']}: repeats {r['repeats']}, rounds' wall seconds {r['wall_seconds_runs']}, job files {walls}")
+        check(walls and r["wall_seconds"] == min(walls) and r["run"] == names[walls.index(min(walls))],
+              f"np{r['ranks']}: row from {r['run']} ({r['wall_seconds']} s), rounds {walls}")
+        check(walls and abs(r["wall_seconds_median"] - statistics.median(walls)) < 1e-12,
+              f"np{r['ranks']}: median {r['wall_seconds_median']}, rounds {walls}")
+        expected = rows[0]["wall_seconds_median"] / r["wall_seconds_median"]
+        check(abs(r["efficiency_wall_median"] - expected) < 1e-12 * expected,
+              f"np{r['ranks']}: efficiency of the medians {r['efficiency_wall_median']}, expected {expected}")
+        check(r["repeats_agree"], f"np{r['ranks']}: the rounds took different Newton paths")
 
 
 def sbatch_values(path):
@@ -353,6 +382,7 @@ def main():
     p.add_argument("--dofs-per-rank", type=float, required=True)
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--set", action="append", default=[])
+    p.add_argument("--repeat", type=int, default=1)
     p = sub.add_parser("slurm")
     p.add_argument("--build")
     p = sub.add_parser("aggregates")
