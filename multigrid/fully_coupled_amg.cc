@@ -112,6 +112,22 @@ namespace multigrid
       field.set("UnAmalgamationInfo", "Amalgamation" + s);
     }
 
+    /// The level smoother's factory: the project's block Gauss-Seidel (block_gauss_seidel_smoother.h)
+    /// or, for comparison, MueLu's BlockedGaussSeidelSmoother (the same iteration, with a residual
+    /// of the whole system per block row and sub-smoothers that recompute their zero start).
+    std::string block_gauss_seidel_factory(const List& p, const std::string& preset)
+    {
+      const std::string implementation = p.isType<std::string>("smoother: implementation")
+                                             ? p.get<std::string>("smoother: implementation")
+                                             : "project";
+      if (implementation == "project")
+        return "BlockGaussSeidelSmoother";
+      if (implementation == "muelu")
+        return "BlockedGaussSeidelSmoother";
+      throw InputError("preset '" + preset + "': 'smoother: implementation' is '" + implementation +
+                       "', expected project or muelu");
+    }
+
     /// The sub-smoother of block k inside the block Gauss-Seidel smoother, group "SmootherGroup<k>".
     void add_block_smoother(List& f, std::size_t k, const List& settings, const std::string& preset)
     {
@@ -186,7 +202,7 @@ namespace multigrid
     // 4. block Gauss-Seidel with one sub-smoother per field.
     for (std::size_t k = 0; k < n; ++k)
       add_block_smoother(f, k, block_smoother(p, system.block(k).name, preset.name), preset.name);
-    List& bgs = factory(f, "BlockGaussSeidel", "BlockedGaussSeidelSmoother");
+    List& bgs = factory(f, "BlockGaussSeidel", block_gauss_seidel_factory(p, preset.name));
     bgs.set("Sweeps", p.get<int>("smoother: sweeps"));
     bgs.set("Damping factor", p.get<double>("smoother: damping"));
     name_block_groups(bgs, "SmootherGroup", n);

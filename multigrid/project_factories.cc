@@ -1,6 +1,7 @@
 #include "project_factories.h"
 
 #include "aggregate_export.h"
+#include "block_gauss_seidel_smoother.h"
 #include "block_rebalancing.h"
 
 #include "spai_factories.h"
@@ -580,6 +581,8 @@ namespace multigrid
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
     if (name == "SpaiSimpleSmoother")
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
+    if (name == "BlockGaussSeidelSmoother")
+      return this->template BuildBlockedSmoother<BlockGaussSeidelSmoother>(list, factories, managers);
     if (auto spai = build_spai_factory(name, list, factories); !spai.is_null())
       return spai;
     if (auto rebalancing = build_rebalancing_factory(name, list, factories, late_); !rebalancing.is_null())

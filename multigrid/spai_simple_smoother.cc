@@ -107,7 +107,7 @@ namespace multigrid
           A_->apply(*bX, *residual, Teuchos::NO_TRANS, -1.0, 1.0);
         // 2. predictor on A00
         dX->putScalar(0.0);
-        predictor_->Apply(*dx1, *r1);
+        predictor_->Apply(*dx1, *r1, true); // dx1 = 0: no residual of a zero guess
         // 3.-4. corrector on S with r2 - A10 dx1 (a coupling block that is all zero on a coarse
         // level, e.g. contact without active nodes, is not stored: then r2 alone)
         if (A10_.is_null())
@@ -117,7 +117,7 @@ namespace multigrid
             A10_->apply(*dx1, *schur_rhs);
             schur_rhs->update(1.0, *r2, -1.0);
           }
-        corrector_->Apply(*dx2, *schur_rhs);
+        corrector_->Apply(*dx2, *schur_rhs, true);
         // 5. dx1 -= Â A01 (omega dx2) (or Â A01 dx2, undamped), x2 += omega dx2, then x += dx
         if (!A01_.is_null())
           {

@@ -354,6 +354,37 @@ TEST(FullyCoupledAmg, FourLevelsOnTheModelKeepTheTrueResidual)
   EXPECT_LT(report.iterations, 15);
 }
 
+TEST(FullyCoupledAmg, ProjectBlockGaussSeidelIsMueLusIteration)
+{
+  // The project's level smoother (block_gauss_seidel_smoother.h) against MueLu's
+  // BlockedGaussSeidelSmoother: the same V-cycle on a 3-level hierarchy, for 1 and 3 sweeps, to
+  // round-off (the project's skips products with zero blocks of the start and the sub-smoothers'
+  // residuals of a zero guess, which are exact zeros there).
+  const auto system = coupled_fields_2d(comm(), {2, false});
+  for (const std::string sweeps : {"1", "3"})
+    {
+      std::vector<RCP<MultiVector>> y;
+      for (const std::string implementation : {"project", "muelu"})
+        {
+          Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
+          apply_overrides(preset, {"coarse: max size=500", "smoother: sweeps=" + sweeps,
+                                   "smoother: implementation=" + implementation});
+          BlockPreconditioner M(system, preset);
+          ASSERT_GE(M.info().levels.size(), 3u) << implementation;
+          y.push_back(MVF::Build(system.full_map(), 1, true));
+          M.op()->apply(*system.rhs(), *y.back());
+        }
+      const double reference = norm(*y[1]);
+      y[0]->update(-1.0, *y[1], 1.0);
+      EXPECT_LT(norm(*y[0]), 1e-12 * reference) << sweeps << " sweeps";
+    }
+  Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
+  apply_overrides(preset, {"smoother: implementation=mine"});
+  const std::string e = error_of([&] { BlockPreconditioner M(system, preset); });
+  EXPECT_NE(e.find("'smoother: implementation' is 'mine', expected project or muelu"), std::string::npos)
+      << e;
+}
+
 TEST(FullyCoupledAmg, FieldTooSmallToAggregateIsAOneLineError)
 {
   const auto system = coupled_fields_2d(comm(), {1, false});
