@@ -53,29 +53,32 @@ namespace multigrid
   void BlockGaussSeidelSmoother::Setup(MueLu::Level& level)
   {
     MueLu::FactoryMonitor monitor(*this, "block Gauss-Seidel (project)", level);
-    A_      = Get<RCP<::multigrid::Matrix>>(level, "A");
-    auto bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A_);
-    const std::size_t n = managers_.size();
+    A_                   = Get<RCP<::multigrid::Matrix>>(level, "A");
+    auto              bA = Teuchos::rcp_dynamic_cast<::multigrid::BlockedCrsMatrix>(A_);
+    const std::size_t n  = managers_.size();
     if (bA.is_null() || bA->Rows() != n || bA->Cols() != n)
-      throw InputError("BlockGaussSeidelSmoother: expected a " + std::to_string(n) + " x " + std::to_string(n) +
-                       " blocked matrix (one sublist blockK per block row)");
+      throw InputError("BlockGaussSeidelSmoother: expected a " + std::to_string(n) + " x " +
+                       std::to_string(n) + " blocked matrix (one sublist blockK per block row)");
     blocks_.assign(n, std::vector<RCP<const ::multigrid::Matrix>>(n));
     for (std::size_t k = 0; k < n; ++k)
       for (std::size_t j = 0; j < n; ++j)
         {
           auto Akj = bA->getMatrix(k, j);
-          if (!Akj.is_null() && Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null() &&
+          if (!Akj.is_null() &&
+              Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null() &&
               Akj->getGlobalNumEntries() > 0)
             blocks_[k][j] = Akj;
-          else if (!Akj.is_null() && !Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null())
-            throw InputError("BlockGaussSeidelSmoother: block (" + std::to_string(k) + ", " + std::to_string(j) +
-                             ") is itself blocked; nested blocks are not supported");
+          else if (!Akj.is_null() &&
+                   !Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null())
+            throw InputError("BlockGaussSeidelSmoother: block (" + std::to_string(k) + ", " +
+                             std::to_string(j) + ") is itself blocked; nested blocks are not supported");
         }
     inverses_.clear();
     for (const auto& manager : managers_)
       {
         MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
-        inverses_.push_back(level.Get<RCP<SubSmoother>>("PreSmoother", manager->GetFactory("Smoother").get()));
+        inverses_.push_back(
+            level.Get<RCP<SubSmoother>>("PreSmoother", manager->GetFactory("Smoother").get()));
       }
     IsSetup(true);
   }

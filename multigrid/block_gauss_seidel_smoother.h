@@ -25,7 +25,8 @@
 
 namespace multigrid
 {
-  class BlockGaussSeidelSmoother : public MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>
+  class BlockGaussSeidelSmoother
+      : public MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>
   {
   public:
     RCP<const Teuchos::ParameterList> GetValidParameterList() const override;
@@ -37,15 +38,18 @@ namespace multigrid
     void Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
                bool initial_guess_is_zero = false) const override;
 
-    RCP<MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>> Copy() const override;
+    RCP<MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>
+                Copy() const override;
     std::string description() const override { return "block Gauss-Seidel (project)"; }
     /// The sub-smoothers' complexities summed (invalid if one of them does not know its own).
     size_t getNodeSmootherComplexity() const override;
 
   private:
-    std::vector<RCP<const MueLu::FactoryManagerBase>>     managers_;
-    RCP<::multigrid::Matrix>                               A_;
+    std::vector<RCP<const MueLu::FactoryManagerBase>>        managers_;
+    RCP<::multigrid::Matrix>                                 A_;
     std::vector<std::vector<RCP<const ::multigrid::Matrix>>> blocks_; ///< A_kj, null where zero
-    std::vector<RCP<const MueLu::SmootherBase<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>> inverses_;
+    std::vector<
+        RCP<const MueLu::SmootherBase<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>>
+        inverses_;
   };
 } // namespace multigrid
