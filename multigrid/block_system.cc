@@ -1,5 +1,8 @@
 #include "block_system.h"
 
+#include <MueLu_Utilities.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_CrsMatrixWrap.hpp>
 #include <Xpetra_ImportFactory.hpp>
@@ -38,31 +41,102 @@ namespace multigrid
       return global_same == 1;
     }
 
-    /// The column map extractor of the merged matrix for SplitMatrix: block k's columns are this
-    /// rank's column ids in [offsets[k], offsets[k + 1]), in the column map's order. Xpetra builds
-    /// the same maps when it is given none (MatrixUtils::findColumnSubMap), but it cannot know
-    /// that the blocks are id ranges: for every block it gathers every rank's off-rank column ids
-    /// on every rank and then looks each of its column ids up in that list by linear search, work
-    /// and memory per rank that grow with the rank count (on the rings at 8 ranks, 20 k DOFs per
-    /// rank, 6 % of a rank's samples). Here each id is placed by its range, without communication
-    /// (but for the maps' own global sizes).
-    RCP<const MapExtractor> column_extractor(const Matrix& merged, const std::vector<GO>& offsets)
+    /// Block (r, c) of the merged matrix for every pair of blocks, as MueLu's blocked matrix.
+    /// Xpetra's MatrixUtils::SplitMatrix does the same by inserting every row's entries by global
+    /// id into n x n matrices that each reserve (and zero) the merged matrix's longest row for
+    /// every row, and then lets fillComplete find every block's column owners again: on the FSI
+    /// tube that split was 18 % of each Newton assembly. Here the entries of each block are
+    /// counted, then copied once into exactly sized compressed-row arrays in the block's own
+    /// column ids. The blocks own contiguous id ranges [offsets[k], offsets[k + 1]); a block's
+    /// column map is the merged column map's ids it uses, in the merged map's order, which is
+    /// the order Tpetra's fillComplete gives (the domain map's own ids first, then the others by
+    /// owning rank and id), so the blocks are Xpetra's to the last bit (test
+    /// BlockSystem.SplitGivesXpetrasBlocks).
+    RCP<BlockedCrsMatrix> split_blocks(const Matrix& merged, const RCP<const MapExtractor>& extractor,
+                                       const std::vector<GO>& offsets)
     {
-      const auto                   col_map = merged.getColMap();
-      std::vector<std::vector<GO>> ids(offsets.size() - 1);
-      for (LO i = 0; i < static_cast<LO>(col_map->getNodeNumElements()); ++i)
+      using TpetraCrs                 = Tpetra::CrsMatrix<SC, LO, GO, NO>;
+      using TpetraMap                 = Tpetra::Map<LO, GO, NO>;
+      const TpetraCrs&         A      = Xpetra::Helpers<SC, LO, GO, NO>::Op2TpetraCrs(merged);
+      const auto               local  = A.getLocalMatrixHost();
+      const auto&              rows   = *A.getRowMap();
+      const auto&              cols   = *A.getColMap();
+      const std::size_t        n      = offsets.size() - 1;
+      const auto               n_cols = static_cast<LO>(cols.getNodeNumElements());
+      std::vector<std::size_t> column_block(n_cols);
+      for (LO j = 0; j < n_cols; ++j)
+        column_block[j] =
+            std::upper_bound(offsets.begin(), offsets.end(), cols.getGlobalElement(j)) - offsets.begin() - 1;
+
+      RCP<const MapExtractor> range  = extractor,
+                              domain = extractor; // Xpetra takes them by non-const reference
+      auto              blocked      = Teuchos::rcp(new BlockedCrsMatrix(range, domain, 10));
+      std::vector<LO>   block_column(n_cols);
+      std::vector<char> used(n_cols);
+      for (std::size_t r = 0; r < n; ++r)
         {
-          const GO   g = col_map->getGlobalElement(i);
-          const auto k = std::upper_bound(offsets.begin(), offsets.end(), g) - offsets.begin() - 1;
-          ids[k].push_back(g);
+          const RCP<const TpetraMap> row_map = Xpetra::toTpetra(extractor->getMap(r));
+          const auto                 m       = static_cast<LO>(row_map->getNodeNumElements());
+          std::vector<LO>            merged_row(m); // the merged matrix's local row of each block row
+          for (LO i = 0; i < m; ++i)
+            merged_row[i] = rows.getLocalElement(row_map->getGlobalElement(i));
+          for (std::size_t c = 0; c < n; ++c)
+            {
+              // the columns block (r, c) uses, numbered in the merged column map's order
+              std::fill(used.begin(), used.end(), 0);
+              typename TpetraCrs::local_graph_device_type::row_map_type::non_const_type offsets_rc(
+                  "row offsets", m + 1);
+              for (LO i = 0; i < m; ++i)
+                {
+                  std::size_t count = 0;
+                  for (auto k = local.graph.row_map(merged_row[i]);
+                       k < local.graph.row_map(merged_row[i] + 1); ++k)
+                    if (column_block[local.graph.entries(k)] == c)
+                      {
+                        used[local.graph.entries(k)] = 1;
+                        ++count;
+                      }
+                  offsets_rc(i + 1) = offsets_rc(i) + count;
+                }
+              std::vector<GO> column_ids;
+              for (LO j = 0; j < n_cols; ++j)
+                if (used[j])
+                  {
+                    block_column[j] = static_cast<LO>(column_ids.size());
+                    column_ids.push_back(cols.getGlobalElement(j));
+                  }
+              // On one rank a block that uses every column of its domain map takes that map as its
+              // column map, as Tpetra's fillComplete does (MueLu's products then find the two maps
+              // identical by address; a copy made the emin set-up 10-18 % slower).
+              const RCP<const TpetraMap> domain_map = Xpetra::toTpetra(extractor->getMap(c));
+              const RCP<const TpetraMap> col_map =
+                  cols.getComm()->getSize() == 1 && column_ids.size() == domain_map->getNodeNumElements()
+                      ? domain_map
+                      : Teuchos::rcp<const TpetraMap>(
+                            new TpetraMap(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                          Teuchos::ArrayView<const GO>(column_ids), 0, cols.getComm()));
+              typename TpetraCrs::local_graph_device_type::entries_type::non_const_type columns(
+                  Kokkos::ViewAllocateWithoutInitializing("column indices"), offsets_rc(m));
+              typename TpetraCrs::local_matrix_device_type::values_type values(
+                  Kokkos::ViewAllocateWithoutInitializing("values"), offsets_rc(m));
+              for (LO i = 0; i < m; ++i)
+                {
+                  std::size_t q = offsets_rc(i);
+                  for (auto k = local.graph.row_map(merged_row[i]);
+                       k < local.graph.row_map(merged_row[i] + 1); ++k)
+                    if (column_block[local.graph.entries(k)] == c)
+                      {
+                        columns(q) = block_column[local.graph.entries(k)];
+                        values(q)  = local.values(k);
+                        ++q;
+                      }
+                }
+              auto block = Teuchos::rcp(new TpetraCrs(row_map, col_map, offsets_rc, columns, values));
+              block->expertStaticFillComplete(domain_map, row_map);
+              blocked->setMatrix(r, c, MueLu::TpetraCrs_To_XpetraMatrix(block));
+            }
         }
-      std::vector<RCP<const Map>> maps;
-      for (const auto& block : ids)
-        maps.push_back(Xpetra::MapFactory<LO, GO, NO>::Build(
-            col_map->lib(), Teuchos::OrdinalTraits<Xpetra::global_size_t>::invalid(),
-            Teuchos::ArrayView<const GO>(block), 0, col_map->getComm()));
-      return Xpetra::MapExtractorFactory<SC, LO, GO, NO>::Build(
-          Xpetra::MapUtils<LO, GO, NO>::concatenateMaps(maps), maps);
+      return blocked;
     }
   } // namespace
 
@@ -133,8 +207,7 @@ namespace multigrid
                        ", expected " + std::to_string(offset));
 
     system.extractor_ = Xpetra::MapExtractorFactory<SC, LO, GO, NO>::Build(full_map, sub_maps, false);
-    system.blocked_   = Xpetra::MatrixUtils<SC, LO, GO, NO>::SplitMatrix(
-          *merged_matrix, system.extractor_, system.extractor_, column_extractor(*merged_matrix, offsets));
+    system.blocked_   = split_blocks(*merged_matrix, system.extractor_, offsets);
     system.merged_    = merged_matrix;
     system.rhs_       = rhs;
     system.blocks_    = std::move(blocks);
