@@ -1,5 +1,7 @@
 #include "block_gauss_seidel_smoother.h"
 
+#include "sub_smoothers.h"
+
 #include <MueLu_FactoryManagerBase.hpp>
 #include <MueLu_HierarchyUtils.hpp>
 #include <MueLu_Level.hpp>
@@ -15,7 +17,6 @@ namespace multigrid
   namespace
   {
     using FactoryPointer = RCP<const MueLu::FactoryBase>;
-    using SubSmoother    = MueLu::SmootherBase<SC, LO, GO, NO>;
     using BlockedVectors = Xpetra::BlockedMultiVector<SC, LO, GO, NO>;
   } // namespace
 
@@ -43,11 +44,7 @@ namespace multigrid
       if (managers_[k].is_null())
         throw InputError("BlockGaussSeidelSmoother: no sublist block" + std::to_string(k + 1));
     Input(level, "A");
-    for (const auto& manager : managers_)
-      {
-        MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
-        level.DeclareInput("PreSmoother", manager->GetFactory("Smoother").get());
-      }
+    declare_sub_smoothers(level, managers_);
   }
 
   void BlockGaussSeidelSmoother::Setup(MueLu::Level& level)
@@ -75,11 +72,7 @@ namespace multigrid
         }
     inverses_.clear();
     for (const auto& manager : managers_)
-      {
-        MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
-        inverses_.push_back(
-            level.Get<RCP<SubSmoother>>("PreSmoother", manager->GetFactory("Smoother").get()));
-      }
+      inverses_.push_back(sub_smoother(level, manager));
     IsSetup(true);
   }
 

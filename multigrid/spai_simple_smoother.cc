@@ -1,5 +1,7 @@
 #include "spai_simple_smoother.h"
 
+#include "sub_smoothers.h"
+
 #include <MueLu_FactoryManagerBase.hpp>
 #include <MueLu_HierarchyUtils.hpp>
 #include <MueLu_Level.hpp>
@@ -12,7 +14,6 @@
 namespace multigrid
 {
   using FactoryPointer = RCP<const MueLu::FactoryBase>;
-  using SubSmoother    = MueLu::SmootherBase<SC, LO, GO, NO>;
   using BlockedVectors = Xpetra::BlockedMultiVector<SC, LO, GO, NO>;
 
   RCP<const Teuchos::ParameterList> SpaiSimpleSmoother::GetValidParameterList() const
@@ -44,11 +45,7 @@ namespace multigrid
                        "Schur complement)");
     Input(level, "A");
     Input(level, "Ainv");
-    for (const auto& manager : managers_)
-      {
-        MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
-        level.DeclareInput("PreSmoother", manager->GetFactory("Smoother").get());
-      }
+    declare_sub_smoothers(level, managers_);
   }
 
   void SpaiSimpleSmoother::Setup(MueLu::Level& level)
@@ -63,12 +60,8 @@ namespace multigrid
     A01_     = bA->getMatrix(0, 1);
     A10_     = bA->getMatrix(1, 0);
     inverse_ = Get<RCP<::multigrid::Matrix>>(level, "Ainv");
-    auto sub_smoother = [&](const RCP<const MueLu::FactoryManagerBase>& manager) {
-      MueLu::SetFactoryManager scope(Teuchos::rcpFromRef(level), manager);
-      return level.Get<RCP<SubSmoother>>("PreSmoother", manager->GetFactory("Smoother").get());
-    };
-    predictor_ = sub_smoother(managers_[0]);
-    corrector_ = sub_smoother(managers_[1]);
+    predictor_ = sub_smoother(level, managers_[0]);
+    corrector_ = sub_smoother(level, managers_[1]);
     IsSetup(true);
   }
 
