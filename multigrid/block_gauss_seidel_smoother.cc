@@ -17,7 +17,6 @@ namespace multigrid
   namespace
   {
     using FactoryPointer = RCP<const MueLu::FactoryBase>;
-    using BlockedVectors = Xpetra::BlockedMultiVector<SC, LO, GO, NO>;
   } // namespace
 
   RCP<const Teuchos::ParameterList> BlockGaussSeidelSmoother::GetValidParameterList() const
@@ -87,15 +86,9 @@ namespace multigrid
     const auto   m      = B.getNumVectors();
     const auto   n      = blocks_.size();
 
-    // Blocked views: the hierarchy hands over blocked vectors on coarse levels, merged ones on
-    // the finest (split here and merged back at the end).
-    RCP<BlockedVectors> bX       = Teuchos::rcp_dynamic_cast<BlockedVectors>(Teuchos::rcpFromRef(X));
-    const bool          merged_X = bX.is_null();
-    if (merged_X)
-      bX = Teuchos::rcp(new BlockedVectors(bA->getBlockedDomainMap(), Teuchos::rcpFromRef(X).getConst()));
-    RCP<const BlockedVectors> bB = Teuchos::rcp_dynamic_cast<const BlockedVectors>(Teuchos::rcpFromRef(B));
-    if (bB.is_null())
-      bB = Teuchos::rcp(new BlockedVectors(bA->getBlockedRangeMap(), Teuchos::rcpFromRef(B)));
+    const BlockedViews views(*bA, X, B);
+    const auto&        bX = views.x;
+    const auto&        bB = views.b;
     if (initial_guess_is_zero)
       bX->putScalar(0.0);
 
@@ -119,8 +112,7 @@ namespace multigrid
           inverses_[k]->Apply(*dx[k], *r[k], true);
           x[k]->update(omega, *dx[k], 1.0);
         }
-    if (merged_X)
-      X.update(1.0, *bX->Merge(), 0.0);
+    views.write_back(X);
   }
 
   RCP<MueLu::SmootherPrototype<SC, LO, GO, NO>> BlockGaussSeidelSmoother::Copy() const

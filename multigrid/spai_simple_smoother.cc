@@ -75,15 +75,9 @@ namespace multigrid
     const bool   thyra  = range_->getThyraMode();
     const auto   n      = B.getNumVectors();
 
-    // Blocked views: the hierarchy hands over blocked vectors on coarse levels, merged ones on
-    // the finest.
-    RCP<BlockedVectors> bX = Teuchos::rcp_dynamic_cast<BlockedVectors>(Teuchos::rcpFromRef(X));
-    const bool         merged_X = bX.is_null();
-    if (merged_X)
-      bX = Teuchos::rcp(new BlockedVectors(bA->getBlockedDomainMap(), Teuchos::rcpFromRef(X).getConst()));
-    RCP<const BlockedVectors> bB = Teuchos::rcp_dynamic_cast<const BlockedVectors>(Teuchos::rcpFromRef(B));
-    if (bB.is_null())
-      bB = Teuchos::rcp(new BlockedVectors(bA->getBlockedRangeMap(), Teuchos::rcpFromRef(B)));
+    const BlockedViews views(*bA, X, B);
+    const auto&        bX = views.x;
+    const auto&        bB = views.b;
 
     auto residual = Teuchos::rcp(new BlockedVectors(bA->getBlockedRangeMap(), n));
     auto dX       = Teuchos::rcp(new BlockedVectors(bA->getBlockedDomainMap(), n));
@@ -121,8 +115,7 @@ namespace multigrid
         dx2->scale(omega);
         bX->update(1.0, *dX, 1.0);
       }
-    if (merged_X)
-      X.update(1.0, *bX->Merge(), 0.0);
+    views.write_back(X);
   }
 
   RCP<MueLu::SmootherPrototype<double, int, long long, ::multigrid::NO>> SpaiSimpleSmoother::Copy() const
