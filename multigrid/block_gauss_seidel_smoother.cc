@@ -59,15 +59,14 @@ namespace multigrid
     for (std::size_t k = 0; k < n; ++k)
       for (std::size_t j = 0; j < n; ++j)
         {
-          auto Akj = bA->getMatrix(k, j);
-          if (!Akj.is_null() &&
-              Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null() &&
-              Akj->getGlobalNumEntries() > 0)
-            blocks_[k][j] = Akj;
-          else if (!Akj.is_null() &&
-                   !Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null())
+          const auto Akj = bA->getMatrix(k, j);
+          if (Akj.is_null())
+            continue;
+          if (!Teuchos::rcp_dynamic_cast<const ::multigrid::BlockedCrsMatrix>(Akj).is_null())
             throw InputError("BlockGaussSeidelSmoother: block (" + std::to_string(k) + ", " +
                              std::to_string(j) + ") is itself blocked; nested blocks are not supported");
+          if (Akj->getGlobalNumEntries() > 0) // a block zero on every rank is skipped on every rank
+            blocks_[k][j] = Akj;
         }
     inverses_.clear();
     for (const auto& manager : managers_)
