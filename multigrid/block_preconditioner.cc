@@ -4,6 +4,7 @@
 #include "block_relaxation.h"
 #include "cheap_simple.h"
 #include "fully_coupled_amg.h"
+#include "ilu0_smoother.h"
 #include "hierarchy_utils.h"
 #include "muelu_xml_compat.h"
 #include "project_factories.h"
@@ -22,6 +23,7 @@
 #include <Xpetra_VectorFactory.hpp>
 
 #include <map>
+#include <optional>
 
 namespace multigrid
 {
@@ -74,6 +76,54 @@ namespace multigrid
     {
       const std::string coarse = value_or<std::string>(list, "coarse: type", "KLU2");
       return ranks > 1 && (coarse == "KLU2" || coarse == "Klu2" || coarse == "KLU" || coarse == "Klu");
+    }
+
+    /// MueLu 13.2's easy-style lists name Ifpack2's smoothers only. "smoother: type" or
+    /// "coarse: type" = "ILU(0)" asks for the project's (ilu0_smoother.h): MueLu sets the
+    /// hierarchy up with a placeholder (one Jacobi sweep, cheap to set up) in its place, and
+    /// use_project_smoothers puts the project's ILU(0) there afterwards.
+    struct ProjectSmoothers
+    {
+      std::optional<Ilu0Thresholds> level;  ///< on every level but the coarsest
+      std::optional<Ilu0Thresholds> coarse; ///< on the coarsest level
+    };
+
+    /// Takes the project's smoothers out of `list` (placeholders instead) and returns them.
+    ProjectSmoothers take_project_smoothers(Teuchos::ParameterList& list)
+    {
+      ProjectSmoothers found;
+      for (const std::string which : {"smoother", "coarse"})
+        {
+          if (value_or<std::string>(list, which + ": type", "") != "ILU(0)")
+            continue;
+          const std::string params     = which + ": params";
+          const auto        thresholds = ilu0_thresholds(
+                     list.isSublist(params) ? list.sublist(params) : Teuchos::ParameterList(), "'" + params + "'");
+          (which == "smoother" ? found.level : found.coarse) = thresholds;
+          list.set(which + ": type", std::string("RELAXATION"));
+          list.remove(params, false);
+          list.sublist(params).set("relaxation: type", std::string("Jacobi"));
+        }
+      return found;
+    }
+
+    void use_project_smoothers(Hierarchy& H, const ProjectSmoothers& smoothers)
+    {
+      const int coarsest = H.GetNumLevels() - 1;
+      for (int l = 0; l <= coarsest; ++l)
+        {
+          const auto& thresholds = l < coarsest ? smoothers.level : smoothers.coarse;
+          auto        level      = H.GetLevel(l);
+          if (!thresholds || !level->IsAvailable("PreSmoother"))
+            continue;
+          RCP<MueLu::SmootherBase<SC, LO, GO, NO>> ilu =
+              Teuchos::rcp(new Ilu0Smoother(level->Get<RCP<Matrix>>("A"), *thresholds));
+          level->Set("PreSmoother", ilu);
+          if (l == coarsest && level->IsAvailable("PostSmoother")) // a coarse solve is applied once
+            level->Delete("PostSmoother", MueLu::NoFactory::get());
+          else if (level->IsAvailable("PostSmoother"))
+            level->Set("PostSmoother", ilu);
+        }
     }
 
     std::string coarse_solver_name(const Teuchos::ParameterList& list, int ranks)
@@ -235,7 +285,8 @@ namespace multigrid
                                               const Teuchos::ParameterList& parameters,
                                               const RCP<MultiVector>& coordinates, bool keep_transfers)
   {
-    Teuchos::ParameterList list = parameters;
+    Teuchos::ParameterList list    = parameters;
+    const ProjectSmoothers project = take_project_smoothers(list);
     if (value_or<bool>(list, "repartition: enable", false) && coordinates.is_null())
       throw InputError("'repartition: enable' needs the nodes' coordinates (Zoltan2's geometric "
                        "partitioner), and this field has none");
@@ -258,6 +309,7 @@ namespace multigrid
     if (!coordinates.is_null())
       H->GetLevel(0)->Set("Coordinates", coordinates);
     interpreter.SetupHierarchy(*H);
+    use_project_smoothers(*H, project);
     // MueLu 13.2's Amesos2 coarse solve is not exact on several ranks: the project's SuperLU
     // takes the coarsest level's place.
     if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
@@ -283,6 +335,8 @@ namespace multigrid
   {
     A->SetFixedBlockSize(H.GetLevel(0)->Get<RCP<Matrix>>("A")->GetFixedBlockSize());
     set_up_on_kept_transfers(H, A);
+    Teuchos::ParameterList list = parameters;
+    use_project_smoothers(H, take_project_smoothers(list));
     if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
       use_superlu_coarse_solver(H);
   }

@@ -137,6 +137,12 @@ namespace multigrid
         throw InputError("preset '" + preset + "': a 'block smoothers' sublist has no 'type'");
       if (type == "SuperLU")
         factory(f, "Smoother" + s, "SuperLUDirectSolver");
+      else if (type == "ILU(0)")
+        {
+          List& t = factory(f, "Smoother" + s, "Ilu0Smoother");
+          if (settings.isSublist("ParameterList"))
+            t.sublist("ParameterList").setParameters(settings.sublist("ParameterList"));
+        }
       else
         {
           List& t = factory(f, "Smoother" + s, "TrilinosSmoother");

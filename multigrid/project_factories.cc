@@ -3,6 +3,7 @@
 #include "aggregate_export.h"
 #include "block_gauss_seidel_smoother.h"
 #include "block_rebalancing.h"
+#include "ilu0_smoother.h"
 
 #include "spai_factories.h"
 #include "spai_simple_smoother.h"
@@ -579,6 +580,14 @@ namespace multigrid
     if (name == "SuperLUDirectSolver")
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
+    if (name == "Ilu0Smoother")
+      {
+        const Teuchos::ParameterList none;
+        const auto                   thresholds = ilu0_thresholds(
+                              list.isSublist("ParameterList") ? list.sublist("ParameterList") : none, "factory Ilu0Smoother");
+        return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
+            Teuchos::rcp(new Ilu0Smoother(thresholds))));
+      }
     if (name == "SpaiSimpleSmoother")
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (name == "BlockGaussSeidelSmoother")

@@ -15,6 +15,8 @@
 //   AggregateRecordFactory   keeps a field's aggregates for export (aggregate_export.h).
 //   SuperLUDirectSolver      coarse-level direct solver through the project's SuperLU adaptor,
 //                            for single and blocked (merged on the fly) operators.
+//   Ilu0Smoother             ILU(0) with faster triangular solves than Ifpack2's RILUK
+//                            (ilu0_smoother.h), the sub-smoother type "ILU(0)".
 #pragma once
 
 #include "types.h"

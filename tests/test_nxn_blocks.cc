@@ -6,6 +6,9 @@
 //  - one block Gauss-Seidel sweep with exact block solves is exact on a block-lower-triangular
 //    system (block Jacobi is not);
 //  - the preset's Chebyshev(3) and ILU(0) sub-smoothers reduce the error on their blocks;
+//  - the project's ILU(0) computes Ifpack2's RILUK(0) to round-off (the model's and the FSI
+//    channel's fluid blocks), is exact where elimination fills nothing, names a zero pivot, and
+//    takes the placeholder's place in hierarchies from easy-style lists (also after a refresh);
 //  - every preset solves the 3-block model system (and the FSI channel systems exported by the
 //    fsi app in a ctest fixture) to 1e-6, with the same iteration count within 10 % on
 //    one rank (a split communicator) as on all ranks;
@@ -14,10 +17,15 @@
 #include "block_relaxation.h"
 #include "block_system_io.h"
 #include "coupled_fields.h"
+#include "hierarchy_utils.h"
+#include "ilu0_smoother.h"
 #include "krylov_solver.h"
 #include "presets.h"
 
 #include <Ifpack2_Factory.hpp>
+#include <MueLu_Hierarchy.hpp>
+#include <MueLu_Level.hpp>
+#include <MueLu_SmootherBase.hpp>
 #include <MueLu_Utilities.hpp>
 #include <Tpetra_Core.hpp>
 #include <Xpetra_BlockedCrsMatrix.hpp>
@@ -272,12 +280,29 @@ TEST(SubSmoothers, ChebyshevAndIluOfThePresetReduceTheErrorOnTheirBlocks)
       const auto&       s    = settings.sublist(name);
       auto              A =
           MueLu::Utilities<SC, LO, GO, NO>::Op2NonConstTpetraCrs(system.blocked_matrix()->getMatrix(k, k));
-      auto smoother =
-          Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, NO>>(s.get<std::string>("type"), A);
-      auto params = s.sublist("ParameterList");
-      smoother->setParameters(params);
-      smoother->initialize();
-      smoother->compute();
+      // M^-1 r: Ifpack2's smoother of that type, or the project's ILU(0) (ilu0_smoother.h)
+      std::function<void(const TMV&, TMV&)> inverse;
+      if (s.get<std::string>("type") == "ILU(0)")
+        {
+          auto factors = std::make_shared<Ilu0Factors>(*system.blocked_matrix()->getMatrix(k, k),
+                                                       ilu0_thresholds(s.isSublist("ParameterList")
+                                                                           ? s.sublist("ParameterList")
+                                                                           : Teuchos::ParameterList(),
+                                                                       name));
+          inverse      = [factors](const TMV& r, TMV& dx) {
+            factors->solve(r.getData(0).get(), dx.getDataNonConst(0).get());
+          };
+        }
+      else
+        {
+          auto smoother =
+              Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, NO>>(s.get<std::string>("type"), A);
+          auto params = s.sublist("ParameterList");
+          smoother->setParameters(params);
+          smoother->initialize();
+          smoother->compute();
+          inverse = [smoother](const TMV& r, TMV& dx) { smoother->apply(r, dx); };
+        }
       // Error e = x* - x of x <- x + M^-1 (b - A x) from x = 0, b = A x*, x* random.
       TMV exact(A->getRowMap(), 1), x(A->getRowMap(), 1), b(A->getRowMap(), 1), r(A->getRowMap(), 1),
           dx(A->getRowMap(), 1);
@@ -290,7 +315,7 @@ TEST(SubSmoothers, ChebyshevAndIluOfThePresetReduceTheErrorOnTheirBlocks)
         {
           A->apply(x, r);
           r.update(1.0, b, -1.0);
-          smoother->apply(r, dx);
+          inverse(r, dx);
           x.update(1.0, dx, 1.0);
         }
       x.update(1.0, exact, -1.0);
@@ -300,6 +325,129 @@ TEST(SubSmoothers, ChebyshevAndIluOfThePresetReduceTheErrorOnTheirBlocks)
                   << ": ||e_3|| / ||e_0|| = " << e[0] / e0[0] << std::endl;
       EXPECT_LT(e[0] / e0[0], 0.7) << s.get<std::string>("type") << " on " << name;
     }
+}
+
+namespace
+{
+  using TpetraVector = Tpetra::MultiVector<SC, LO, GO, NO>;
+
+  /// ||M1^-1 x - M2^-1 x|| / ||M2^-1 x|| for Ifpack2's RILUK with level of fill 0 (M2) and the
+  /// project's ILU(0) (M1) of A, x random.
+  double ilu0_against_riluk(const RCP<const Matrix>& A)
+  {
+    auto tA    = MueLu::Utilities<SC, LO, GO, NO>::Op2NonConstTpetraCrs(Teuchos::rcp_const_cast<Matrix>(A));
+    auto riluk = Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, NO>>("RILUK", tA);
+    Teuchos::ParameterList params;
+    params.set("fact: iluk level-of-fill", 0);
+    riluk->setParameters(params);
+    riluk->initialize();
+    riluk->compute();
+    const Ilu0Factors ilu(*A);
+    TpetraVector      x(tA->getRowMap(), 1), y1(tA->getRowMap(), 1), y2(tA->getRowMap(), 1);
+    x.randomize();
+    riluk->apply(x, y2);
+    ilu.solve(x.getData(0).get(), y1.getDataNonConst(0).get());
+    Teuchos::Array<double> difference(1), reference(1);
+    y2.norm2(reference);
+    y1.update(-1.0, y2, 1.0);
+    y1.norm2(difference);
+    return difference[0] / reference[0];
+  }
+
+  /// A nonsymmetric tridiagonal matrix of n rows per rank, coupled only inside each rank (a
+  /// pattern on which elimination fills nothing), with diagonal `first` in each rank's first row.
+  RCP<Matrix> rank_local_tridiagonal(LO n, double first)
+  {
+    auto map =
+        Tpetra::createContigMap<LO, GO>(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), n, comm());
+    auto A = Teuchos::rcp(new Tpetra::CrsMatrix<SC, LO, GO, NO>(map, 3));
+    for (LO i = 0; i < n; ++i)
+      {
+        const GO        g = map->getGlobalElement(i);
+        std::vector<GO> columns{g};
+        std::vector<SC> values{i == 0 ? first : 3.0};
+        if (i > 0)
+          columns.push_back(g - 1), values.push_back(-1.3);
+        if (i + 1 < n)
+          columns.push_back(g + 1), values.push_back(-0.6);
+        A->insertGlobalValues(g, Teuchos::ArrayView<const GO>(columns), Teuchos::ArrayView<const SC>(values));
+      }
+    A->fillComplete();
+    return MueLu::TpetraCrs_To_XpetraMatrix(A);
+  }
+} // namespace
+
+TEST(Ilu0, IsIfpack2sRilukWithoutFill)
+{
+  std::vector<RCP<const Matrix>> fluid{
+      coupled_fields_2d(comm(), {2, false}).blocked_matrix()->getMatrix(1, 1)};
+  for (const auto& dir : fsi_channel_systems()) // convection: nonsymmetric
+    fluid.push_back(read_block_system(dir, comm()).blocked_matrix()->getMatrix(1, 1));
+  ASSERT_GE(fluid.size(), 2u);
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    EXPECT_LT(ilu0_against_riluk(fluid[i]), 1e-12) << "fluid block " << i;
+}
+
+TEST(Ilu0, IsExactWhereEliminationFillsNothingAndNamesAZeroPivot)
+{
+  const auto        A = rank_local_tridiagonal(50, 2.0);
+  const Ilu0Factors ilu(*A);
+  auto              exact = MVF::Build(A->getRowMap(), 1), b = MVF::Build(A->getRowMap(), 1),
+       x = MVF::Build(A->getRowMap(), 1);
+  exact->randomize();
+  A->apply(*exact, *b);
+  ilu.solve(b->getData(0).get(), x->getDataNonConst(0).get());
+  x->update(-1.0, *exact, 1.0);
+  EXPECT_LT(norm(*x), 1e-13 * norm(*exact));
+
+  const auto        singular = rank_local_tridiagonal(50, 0.0);
+  const std::string e        = error_of([&] { Ilu0Factors f(*singular); });
+  EXPECT_NE(e.find("ILU(0): pivot 0.000000 in local row 0 of 50"), std::string::npos) << e;
+  EXPECT_NE(e.find("'fact: absolute threshold' > 0"), std::string::npos) << e;
+  EXPECT_NO_THROW(Ilu0Factors(*singular, Ilu0Thresholds{1.0, 1.0}));
+
+  Teuchos::ParameterList fill;
+  fill.set("fact: iluk level-of-fill", 1);
+  const std::string f = error_of([&] { ilu0_thresholds(fill, "block smoothers/fluid"); });
+  EXPECT_NE(f.find("block smoothers/fluid: ILU(0) has no parameter 'fact: iluk level-of-fill'"),
+            std::string::npos)
+      << f;
+}
+
+TEST(Ilu0, TakesThePlaceholdersPlaceInEasyListHierarchies)
+{
+  // bgs(amg) builds every field's hierarchy from MueLu's easy-style list: with "ILU(0)" on the
+  // fluid, one application equals the one with Ifpack2's RILUK(0) to round-off.
+  const auto                    system = coupled_fields_2d(comm(), {2, false});
+  std::vector<RCP<MultiVector>> y;
+  for (const std::string type : {"ILU(0)", "RILUK"})
+    {
+      Preset preset = load_preset("bgs(amg)");
+      apply_overrides(
+          preset, {"block solvers/fluid/smoother: type=" + type, "block solvers/fluid/coarse: max size=100"});
+      BlockPreconditioner M(system, preset);
+      y.push_back(MVF::Build(system.full_map(), 1, true));
+      M.op()->apply(*system.rhs(), *y.back());
+    }
+  const double reference = norm(*y[1]);
+  y[0]->update(-1.0, *y[1], 1.0);
+  EXPECT_LT(norm(*y[0]), 1e-12 * reference);
+
+  // The same hierarchy set up again on its kept transfers keeps the project's ILU(0).
+  const auto             A = Teuchos::rcp_const_cast<Matrix>(system.blocked_matrix()->getMatrix(1, 1));
+  Teuchos::ParameterList list;
+  list.set("max levels", 3);
+  list.set("coarse: max size", 100);
+  list.set("smoother: type", std::string("ILU(0)"));
+  list.set("verbosity", std::string("none"));
+  auto H        = build_single_field_hierarchy(A, 3, Teuchos::null, list, Teuchos::null, true);
+  auto smoother = [&] {
+    return H->GetLevel(0)->Get<RCP<MueLu::SmootherBase<SC, LO, GO, NO>>>("PreSmoother")->description();
+  };
+  EXPECT_EQ(smoother(), "ILU(0) (project)");
+  ASSERT_GE(H->GetNumLevels(), 2);
+  refresh_single_field_hierarchy(*H, A, list);
+  EXPECT_EQ(smoother(), "ILU(0) (project)");
 }
 
 class NxnPresets : public ::testing::TestWithParam<std::string>
