@@ -163,6 +163,17 @@ namespace multigrid
         }
     }
 
+    /// The level smoother's contraction check (fully_coupled_amg.h) where asked for, as a note.
+    std::string smoother_check_note(Hierarchy& H, const BlockSystem& system, const Preset& preset, bool check)
+    {
+      if (!check)
+        return "level smoother: contraction not checked in this set-up";
+      const double growth =
+          with_preset_context(preset.name, [&] { return check_level_smoother(H, system, preset); });
+      return "level smoother: ||A e|| x " + std::to_string(growth) +
+             " in 5 applications (fine level, from a random e)";
+    }
+
     /// MueLu's interpreter of a parameter list (factory- or easy-style) that can also mark every
     /// coarse level's transfers to be kept. A kept datum survives Hierarchy::Clear(), and a factory whose
     /// output is available is neither asked for its inputs nor built again: Hierarchy::SetupRe()
@@ -468,13 +479,10 @@ namespace multigrid
         rebalance_coarse_levels(muelu, options);
         auto H =
             with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu, options); });
-        const double growth =
-            with_preset_context(preset.name, [&] { return check_level_smoother(*H, system, preset); });
         fill_levels(info_, level_sizes(*H));
         fill_block_rows(info_, *H);
         info_.coarse_solver = "SuperLU (project adaptor, blocks merged)";
-        info_.notes.push_back("level smoother: ||A e|| x " + std::to_string(growth) +
-                              " in 5 applications (fine level, from a random e)");
+        info_.notes.push_back(smoother_check_note(*H, system, preset, options.check_level_smoother));
         hierarchy_ = H;
         op_        = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
       }
@@ -552,13 +560,7 @@ namespace multigrid
         fill_block_rows(info_, *hierarchy_); // blocked hierarchies only
       }
     if (preset_.kind == "fully-coupled-amg")
-      {
-        // The level smoother's check (fully_coupled_amg.h) holds for the new matrix too.
-        const double growth = with_preset_context(
-            preset_.name, [&] { return check_level_smoother(*hierarchy_, system, preset_); });
-        info_.notes.back() = "level smoother: ||A e|| x " + std::to_string(growth) +
-                             " in 5 applications (fine level, from a random e)";
-      }
+      info_.notes.back() = smoother_check_note(*hierarchy_, system, preset_, false);
     info_.setup_seconds    = timer.stop();
     info_.transfers_reused = true;
     return true;

@@ -58,6 +58,13 @@ namespace multigrid
     /// saddle-point-amg, muelu, fully-coupled-amg, amg and the inner ones of cheapsimple; other
     /// kinds ignore it, and their refresh() returns false).
     bool keep_transfers = false;
+    /// fully-coupled-amg: apply the level smoother to a random error and refuse the preset if
+    /// it does not contract (check_level_smoother in fully_coupled_amg.h). A check of the
+    /// preset: a solver that sets up one preset for many systems checks its first set-up only
+    /// (refresh() does not check either), since the check costs a quarter of the set-up on the 3D
+    /// tube and a smoother that diverges on a later system shows as a GMRES solve that does not
+    /// converge.
+    bool check_level_smoother = true;
   };
 
   class BlockPreconditioner

@@ -101,7 +101,10 @@ namespace physics
         multigrid::SetupOptions    options;
         options.keep_aggregates = settings_.export_aggregates;
         options.keep_transfers  = settings_.reuse_preconditioner == PreconditionerReuse::transfers;
+        // The fully coupled preset's smoother check is a check of the preset: the run's first set-up.
+        options.check_level_smoother = !level_smoother_checked_;
         preconditioner_         = std::make_unique<multigrid::BlockPreconditioner>(system, preset_, options);
+        level_smoother_checked_ = true;
       }
     catch (const multigrid::InputError&)
       {

@@ -225,5 +225,6 @@ namespace physics
     /// within one Newton solve only: NewtonSettings::reuse_preconditioner).
     std::unique_ptr<multigrid::BlockPreconditioner> preconditioner_;
     std::uint64_t                                   preconditioner_state_ = 0;
+    bool level_smoother_checked_ = false; ///< SetupOptions::check_level_smoother done once
   };
 } // namespace physics
