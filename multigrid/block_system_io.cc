@@ -394,7 +394,7 @@ namespace multigrid
           total += b.size;
         }
       on_root(*comm, [&] {
-        const auto h = scan_matrix_market(d.matrix);
+        const auto h = scan_matrix_market(d.matrix, false); // its entries: read_sparse_matrix_market
         if (!h.coordinate)
           throw InputError(d.matrix + ": expected a Matrix Market coordinate matrix");
         if (h.rows != h.cols)
@@ -489,8 +489,7 @@ namespace multigrid
       RCP<const Map> row_map = Xpetra::MapFactory<LO, GO, NO>::Build(
           Xpetra::UseTpetra, total, Teuchos::ArrayView<const GO>(all), 0, comm);
 
-      using IO                = Xpetra::IO<SC, LO, GO, NO>;
-      RCP<Matrix>      A      = IO::Read(d.matrix, row_map);
+      RCP<Matrix>      A      = read_sparse_matrix_market(d.matrix, row_map);
       RCP<MultiVector> rhs    = d.rhs.empty() ? Teuchos::null : read_in_global_order(d.rhs, row_map);
       BlockSystem      system = BlockSystem::from_merged(comm, blocks, owned, A, rhs);
 

@@ -65,4 +65,9 @@ namespace multigrid
   /// Reads the header and (with `check_entries`) every entry line: index ranges, count, finite
   /// values. Throws InputError naming the file, the line and what was expected.
   MatrixMarketHeader scan_matrix_market(const std::string& file, bool check_entries = true);
+
+  /// A square coordinate matrix (checked like scan_matrix_market, duplicates summed) distributed
+  /// by `row_map`, which also is its domain and range map; rank 0 reads the file. The result is
+  /// Tpetra's reader's to the last bit (test BlockSystemIo.ReaderIsTpetras).
+  RCP<Matrix> read_sparse_matrix_market(const std::string& file, const RCP<const Map>& row_map);
 } // namespace multigrid
