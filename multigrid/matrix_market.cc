@@ -14,8 +14,9 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <numeric>
 #include <sstream>
+#include <string_view>
+#include <tuple>
 
 namespace multigrid
 {
@@ -77,7 +78,8 @@ namespace multigrid
     }
 
     /// The header check and the pass over every entry line (with `check_entries`); `entry` is
-    /// called with the 1-based row and column (column 1 for arrays) and the value of every entry.
+    /// called with the 1-based row and column (arrays: of the entry's place in column-major order)
+    /// and the value of every entry.
     template <typename F>
     MatrixMarketHeader scan(const std::string& file, bool check_entries, F&& entry)
     {
@@ -165,7 +167,8 @@ namespace multigrid
                                                    [&](long long i, long long j, double v) { entries.emplace_back(i - 1, j - 1, v); });
       if (!h.coordinate)
         throw InputError(file + ": expected a Matrix Market coordinate matrix");
-      std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+      // stable: duplicates are summed in the file's order
+      std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
         return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
       });
       RootRows r;
