@@ -97,9 +97,8 @@ namespace multigrid
           if (value_or<std::string>(list, which + ": type", "") != "ILU(0)")
             continue;
           const std::string params     = which + ": params";
-          const auto        thresholds = ilu0_thresholds(
-                     list.isSublist(params) ? list.sublist(params) : Teuchos::ParameterList(), "'" + params + "'");
-          (which == "smoother" ? found.level : found.coarse) = thresholds;
+          (which == "smoother" ? found.level : found.coarse) =
+              ilu0_thresholds(list, params, "'" + params + "'");
           list.set(which + ": type", std::string("RELAXATION"));
           list.remove(params, false);
           list.sublist(params).set("relaxation: type", std::string("Jacobi"));

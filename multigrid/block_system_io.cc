@@ -53,32 +53,6 @@ namespace multigrid
         throw InputError(file + ": " + what + " file not found");
     }
 
-    /// Runs `f` on rank 0; an InputError there is rethrown on every rank with the same message.
-    template <typename F>
-    void on_root(const Comm& comm, F&& f)
-    {
-      std::string message;
-      if (comm.getRank() == 0)
-        {
-          try
-            {
-              f();
-            }
-          catch (const InputError& e)
-            {
-              message = e.what();
-            }
-        }
-      int length = static_cast<int>(message.size());
-      Teuchos::broadcast(comm, 0, Teuchos::outArg(length));
-      message.resize(length);
-      if (length > 0)
-        {
-          Teuchos::broadcast(comm, 0, length, message.data());
-          throw InputError(message);
-        }
-    }
-
     /// The value lines of a Matrix Market array file: every line after the comments and the size line.
     std::vector<std::string> array_lines(const std::string& file)
     {

@@ -30,6 +30,7 @@
 
 #include "block_system.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,10 @@ namespace multigrid
 
   /// Global ids stored in a Tpetra map file (Matrix Market integer array of (GID, PID) pairs).
   std::vector<GO> read_map_gids(const std::string& file);
+
+  /// Runs `f` on rank 0 of `comm`; an InputError there is thrown on every rank with the same
+  /// message (collective).
+  void on_root(const Comm& comm, const std::function<void()>& f);
 
   /// Header of a Matrix Market file: rows, columns, entries (coordinate) or rows x cols (array).
   struct MatrixMarketHeader

@@ -137,19 +137,16 @@ namespace multigrid
         throw InputError("preset '" + preset + "': a 'block smoothers' sublist has no 'type'");
       if (type == "SuperLU")
         factory(f, "Smoother" + s, "SuperLUDirectSolver");
-      else if (type == "ILU(0)")
-        {
-          List& t = factory(f, "Smoother" + s, "Ilu0Smoother");
-          if (settings.isSublist("ParameterList"))
-            t.sublist("ParameterList").setParameters(settings.sublist("ParameterList"));
-        }
       else
         {
-          List& t = factory(f, "Smoother" + s, "TrilinosSmoother");
-          t.set("type", type);
-          List& ifpack2 = t.sublist("ParameterList");
+          // the project's ILU(0) (ilu0_smoother.h) or an Ifpack2 type through MueLu's TrilinosSmoother
+          const bool own = type == "ILU(0)";
+          List&      t   = factory(f, "Smoother" + s, own ? "Ilu0Smoother" : "TrilinosSmoother");
+          if (!own)
+            t.set("type", type);
+          List& parameters = t.sublist("ParameterList");
           if (settings.isSublist("ParameterList"))
-            ifpack2.setParameters(settings.sublist("ParameterList"));
+            parameters.setParameters(settings.sublist("ParameterList"));
         }
       List& g = group(f, "SmootherGroup" + s);
       g.set("A", "A" + s);

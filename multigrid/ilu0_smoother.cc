@@ -238,9 +238,13 @@ namespace multigrid
     return Teuchos::rcp(new Ilu0Smoother(*this));
   }
 
-  Ilu0Thresholds ilu0_thresholds(const Teuchos::ParameterList& list, const std::string& where)
+  Ilu0Thresholds ilu0_thresholds(const Teuchos::ParameterList& settings, const std::string& sublist,
+                                 const std::string& where)
   {
     Ilu0Thresholds t;
+    if (!settings.isSublist(sublist))
+      return t;
+    const Teuchos::ParameterList& list = settings.sublist(sublist);
     for (auto entry = list.begin(); entry != list.end(); ++entry)
       {
         const std::string& name = list.name(entry);

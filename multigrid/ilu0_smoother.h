@@ -97,8 +97,10 @@ namespace multigrid
     std::shared_ptr<const Ilu0Factors> factors_;
   };
 
-  /// The thresholds of an "ILU(0)" sub-smoother's "ParameterList" (which may also hold RILUK's
-  /// "fact: iluk level-of-fill" = 0); InputError (naming `where`) for any other parameter, for a negative
-  /// absolute or a non-positive relative threshold.
-  Ilu0Thresholds ilu0_thresholds(const Teuchos::ParameterList& list, const std::string& where);
+  /// The thresholds in the sublist `sublist` of an "ILU(0)" smoother's `settings` (none there:
+  /// Ifpack2's defaults). The sublist may also hold RILUK's "fact: iluk level-of-fill" = 0;
+  /// InputError (naming `where`) for any other parameter, for a negative absolute or a
+  /// non-positive relative threshold.
+  Ilu0Thresholds ilu0_thresholds(const Teuchos::ParameterList& settings, const std::string& sublist,
+                                 const std::string& where);
 } // namespace multigrid

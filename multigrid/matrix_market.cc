@@ -6,6 +6,7 @@
 #include "block_system_io.h"
 
 #include <MueLu_Utilities.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Export.hpp>
 
@@ -191,6 +192,30 @@ namespace multigrid
     }
   } // namespace
 
+  void on_root(const Comm& comm, const std::function<void()>& f)
+  {
+    std::string message;
+    if (comm.getRank() == 0)
+      {
+        try
+          {
+            f();
+          }
+        catch (const InputError& e)
+          {
+            message = e.what();
+          }
+      }
+    int length = static_cast<int>(message.size());
+    Teuchos::broadcast(comm, 0, Teuchos::outArg(length));
+    message.resize(length);
+    if (length > 0)
+      {
+        Teuchos::broadcast(comm, 0, length, message.data());
+        throw InputError(message);
+      }
+  }
+
   MatrixMarketHeader scan_matrix_market(const std::string& file, bool check_entries)
   {
     return scan(file, check_entries, [](long long, long long, double) {});
@@ -205,25 +230,8 @@ namespace multigrid
     const bool root = comm->getRank() == 0;
 
     // Rank 0 reads and checks the whole file (an error reaches every rank as one InputError).
-    RootRows    rows;
-    std::string error;
-    if (root)
-      try
-        {
-          rows = read_rows(file);
-        }
-      catch (const InputError& e)
-        {
-          error = e.what();
-        }
-    int length = static_cast<int>(error.size());
-    Teuchos::broadcast(*comm, 0, Teuchos::outArg(length));
-    error.resize(length);
-    if (length > 0)
-      {
-        Teuchos::broadcast(*comm, 0, length, error.data());
-        throw InputError(error);
-      }
+    RootRows rows;
+    on_root(*comm, [&] { rows = read_rows(file); });
     GO n = static_cast<GO>(rows.offsets.size()) - 1;
     Teuchos::broadcast(*comm, 0, Teuchos::outArg(n));
     if (static_cast<Tpetra::global_size_t>(n) != map->getGlobalNumElements())
@@ -233,11 +241,11 @@ namespace multigrid
     // The whole matrix on rank 0, then each row to its owner in `row_map`: fillComplete numbers
     // the columns as Tpetra's reader's matrix does (the same column map, the same entry order).
     const GO                 base    = map->getIndexBase();
-    auto                     on_root = Teuchos::rcp(new TpetraMap(n, root ? n : 0, base, comm));
+    auto                     whole_map = Teuchos::rcp(new TpetraMap(n, root ? n : 0, base, comm));
     std::vector<std::size_t> counts(root ? n : 0);
     for (std::size_t i = 0; i < counts.size(); ++i)
       counts[i] = rows.offsets[i + 1] - rows.offsets[i];
-    auto whole = Teuchos::rcp(new TpetraCrs(on_root, Teuchos::ArrayView<const std::size_t>(counts)));
+    auto whole = Teuchos::rcp(new TpetraCrs(whole_map, Teuchos::ArrayView<const std::size_t>(counts)));
     for (std::size_t i = 0; i < counts.size(); ++i)
       {
         const auto start = rows.offsets[i];
@@ -248,8 +256,8 @@ namespace multigrid
                                   Teuchos::ArrayView<const SC>(rows.values.data() + start, counts[i]));
       }
     rows = RootRows();
-    whole->fillComplete(map, on_root);
-    Tpetra::Export<LO, GO, NO> exporter(on_root, map);
+    whole->fillComplete(map, whole_map);
+    Tpetra::Export<LO, GO, NO> exporter(whole_map, map);
     auto A = Tpetra::exportAndFillCompleteCrsMatrix<TpetraCrs>(whole, exporter, map, map);
     return MueLu::TpetraCrs_To_XpetraMatrix(A);
   }

@@ -581,13 +581,8 @@ namespace multigrid
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new SuperLUSmoother()), Teuchos::null));
     if (name == "Ilu0Smoother")
-      {
-        const Teuchos::ParameterList none;
-        const auto                   thresholds = ilu0_thresholds(
-                              list.isSublist("ParameterList") ? list.sublist("ParameterList") : none, "factory Ilu0Smoother");
-        return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
-            Teuchos::rcp(new Ilu0Smoother(thresholds))));
-      }
+      return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
+          Teuchos::rcp(new Ilu0Smoother(ilu0_thresholds(list, "ParameterList", "factory Ilu0Smoother")))));
     if (name == "SpaiSimpleSmoother")
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (name == "BlockGaussSeidelSmoother")

@@ -285,10 +285,7 @@ TEST(SubSmoothers, ChebyshevAndIluOfThePresetReduceTheErrorOnTheirBlocks)
       if (s.get<std::string>("type") == "ILU(0)")
         {
           auto factors = std::make_shared<Ilu0Factors>(*system.blocked_matrix()->getMatrix(k, k),
-                                                       ilu0_thresholds(s.isSublist("ParameterList")
-                                                                           ? s.sublist("ParameterList")
-                                                                           : Teuchos::ParameterList(),
-                                                                       name));
+                                                       ilu0_thresholds(s, "ParameterList", name));
           inverse      = [factors](const TMV& r, TMV& dx) {
             factors->solve(r.getData(0).get(), dx.getDataNonConst(0).get());
           };
@@ -408,7 +405,10 @@ TEST(Ilu0, IsExactWhereEliminationFillsNothingAndNamesAZeroPivot)
 
   Teuchos::ParameterList fill;
   fill.set("fact: iluk level-of-fill", 1);
-  const std::string f = error_of([&] { ilu0_thresholds(fill, "block smoothers/fluid"); });
+  Teuchos::ParameterList settings;
+  settings.set("ParameterList", fill);
+  const std::string f =
+      error_of([&] { ilu0_thresholds(settings, "ParameterList", "block smoothers/fluid"); });
   EXPECT_NE(f.find("block smoothers/fluid: ILU(0) has no parameter 'fact: iluk level-of-fill'"),
             std::string::npos)
       << f;
