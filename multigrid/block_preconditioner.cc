@@ -4,6 +4,7 @@
 #include "block_relaxation.h"
 #include "cheap_simple.h"
 #include "fully_coupled_amg.h"
+#include "gauss_seidel_smoother.h"
 #include "ilu0_smoother.h"
 #include "hierarchy_utils.h"
 #include "muelu_xml_compat.h"
@@ -22,6 +23,7 @@
 #include <Xpetra_MultiVectorFactory.hpp>
 #include <Xpetra_VectorFactory.hpp>
 
+#include <functional>
 #include <map>
 #include <optional>
 
@@ -79,13 +81,15 @@ namespace multigrid
     }
 
     /// MueLu 13.2's easy-style lists name Ifpack2's smoothers only. "smoother: type" or
-    /// "coarse: type" = "ILU(0)" asks for the project's (ilu0_smoother.h): MueLu sets the
-    /// hierarchy up with a placeholder (one Jacobi sweep, cheap to set up) in its place, and
-    /// use_project_smoothers puts the project's ILU(0) there afterwards.
+    /// "coarse: type" = "ILU(0)" or "SGS" asks for the project's (ilu0_smoother.h,
+    /// gauss_seidel_smoother.h): MueLu sets the hierarchy up with a placeholder (one Jacobi
+    /// sweep, cheap to set up) in its place, and use_project_smoothers puts the project's
+    /// smoother there afterwards.
+    using ProjectSmoother = std::function<RCP<MueLu::SmootherBase<SC, LO, GO, NO>>(const RCP<Matrix>&)>;
     struct ProjectSmoothers
     {
-      std::optional<Ilu0Thresholds> level;  ///< on every level but the coarsest
-      std::optional<Ilu0Thresholds> coarse; ///< on the coarsest level
+      ProjectSmoother level;  ///< on every level but the coarsest (empty: MueLu's)
+      ProjectSmoother coarse; ///< on the coarsest level
     };
 
     /// Takes the project's smoothers out of `list` (placeholders instead) and returns them.
@@ -94,11 +98,21 @@ namespace multigrid
       ProjectSmoothers found;
       for (const std::string which : {"smoother", "coarse"})
         {
-          if (value_or<std::string>(list, which + ": type", "") != "ILU(0)")
+          const std::string type   = value_or<std::string>(list, which + ": type", "");
+          const std::string params = which + ": params";
+          const std::string where  = "'" + params + "'";
+          ProjectSmoother   make;
+          if (type == "ILU(0)")
+            make = [thresholds = ilu0_thresholds(list, params, where)](const RCP<Matrix>& A) {
+              return Teuchos::rcp(new Ilu0Smoother(A, thresholds));
+            };
+          else if (type == "SGS")
+            make = [settings = gauss_seidel_settings(list, params, where)](const RCP<Matrix>& A) {
+              return Teuchos::rcp(new GaussSeidelSmoother(A, settings));
+            };
+          else
             continue;
-          const std::string params     = which + ": params";
-          (which == "smoother" ? found.level : found.coarse) =
-              ilu0_thresholds(list, params, "'" + params + "'");
+          (which == "smoother" ? found.level : found.coarse) = make;
           list.set(which + ": type", std::string("RELAXATION"));
           list.remove(params, false);
           list.sublist(params).set("relaxation: type", std::string("Jacobi"));
@@ -111,17 +125,16 @@ namespace multigrid
       const int coarsest = H.GetNumLevels() - 1;
       for (int l = 0; l <= coarsest; ++l)
         {
-          const auto& thresholds = l < coarsest ? smoothers.level : smoothers.coarse;
-          auto        level      = H.GetLevel(l);
-          if (!thresholds || !level->IsAvailable("PreSmoother"))
+          const auto& make  = l < coarsest ? smoothers.level : smoothers.coarse;
+          auto        level = H.GetLevel(l);
+          if (!make || !level->IsAvailable("PreSmoother"))
             continue;
-          RCP<MueLu::SmootherBase<SC, LO, GO, NO>> ilu =
-              Teuchos::rcp(new Ilu0Smoother(level->Get<RCP<Matrix>>("A"), *thresholds));
-          level->Set("PreSmoother", ilu);
-          if (l == coarsest && level->IsAvailable("PostSmoother")) // a coarse solve is applied once
-            level->Delete("PostSmoother", MueLu::NoFactory::get());
-          else if (level->IsAvailable("PostSmoother"))
-            level->Set("PostSmoother", ilu);
+          // The places MueLu filled: pre- and post-smoother above the coarsest level, the
+          // pre-smoother only on the coarsest (the coarse solve, applied once).
+          RCP<MueLu::SmootherBase<SC, LO, GO, NO>> smoother = make(level->Get<RCP<Matrix>>("A"));
+          level->Set("PreSmoother", smoother);
+          if (level->IsAvailable("PostSmoother"))
+            level->Set("PostSmoother", smoother);
         }
     }
 

@@ -139,9 +139,13 @@ namespace multigrid
         factory(f, "Smoother" + s, "SuperLUDirectSolver");
       else
         {
-          // the project's ILU(0) (ilu0_smoother.h) or an Ifpack2 type through MueLu's TrilinosSmoother
-          const bool own = type == "ILU(0)";
-          List&      t   = factory(f, "Smoother" + s, own ? "Ilu0Smoother" : "TrilinosSmoother");
+          // the project's ILU(0) (ilu0_smoother.h) or symmetric Gauss-Seidel
+          // (gauss_seidel_smoother.h), or an Ifpack2 type through MueLu's TrilinosSmoother
+          const bool own = type == "ILU(0)" || type == "SGS";
+          List&      t   = factory(f, "Smoother" + s,
+                            type == "ILU(0)" ? "Ilu0Smoother"
+                                   : own            ? "GaussSeidelSmoother"
+                                                    : "TrilinosSmoother");
           if (!own)
             t.set("type", type);
           List& parameters = t.sublist("ParameterList");

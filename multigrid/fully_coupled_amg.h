@@ -25,9 +25,9 @@
 // NAME = smoothed | tentative), "sa: damping factor", "smoother: sweeps",
 // "smoother: damping", "smoother: max growth" (see check_level_smoother), and the sublist
 // "block smoothers" with one sublist per block name or "default": "type" (an Ifpack2 type of
-// MueLu's TrilinosSmoother: CHEBYSHEV, RILUK, RELAXATION, ...; ILU(0) for the project's
-// (ilu0_smoother.h); or SuperLU for an exact block solve) and the sublist "ParameterList" (that
-// smoother's parameters).
+// MueLu's TrilinosSmoother: CHEBYSHEV, RILUK, RELAXATION, ...; ILU(0) or SGS for the project's
+// (ilu0_smoother.h, gauss_seidel_smoother.h); or SuperLU for an exact block solve) and the sublist
+// "ParameterList" (that smoother's parameters).
 #pragma once
 
 #include "block_system.h"

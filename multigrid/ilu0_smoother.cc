@@ -1,5 +1,7 @@
 #include "ilu0_smoother.h"
 
+#include "row_product.h"
+
 #include <MueLu_Level.hpp>
 #include <MueLu_Monitor.hpp>
 
@@ -77,24 +79,6 @@ namespace multigrid
           r.offsets.push_back(r.columns.size());
         }
       return r;
-    }
-
-    /// sum_k values[k] x[columns[k]] over one row, in four independent partial sums (the
-    /// products do not wait for each other's additions).
-    inline double row_product(const LO* columns, const double* values, std::size_t length, const double* x)
-    {
-      double      s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-      std::size_t k = 0;
-      for (; k + 4 <= length; k += 4)
-        {
-          s0 += values[k] * x[columns[k]];
-          s1 += values[k + 1] * x[columns[k + 1]];
-          s2 += values[k + 2] * x[columns[k + 2]];
-          s3 += values[k + 3] * x[columns[k + 3]];
-        }
-      for (; k < length; ++k)
-        s0 += values[k] * x[columns[k]];
-      return (s0 + s1) + (s2 + s3);
     }
   } // namespace
 

@@ -3,6 +3,7 @@
 #include "aggregate_export.h"
 #include "block_gauss_seidel_smoother.h"
 #include "block_rebalancing.h"
+#include "gauss_seidel_smoother.h"
 #include "ilu0_smoother.h"
 
 #include "spai_factories.h"
@@ -583,6 +584,10 @@ namespace multigrid
     if (name == "Ilu0Smoother")
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new Ilu0Smoother(ilu0_thresholds(list, "ParameterList", "factory Ilu0Smoother")))));
+    if (name == "GaussSeidelSmoother")
+      return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
+          Teuchos::rcp(new GaussSeidelSmoother(
+              gauss_seidel_settings(list, "ParameterList", "factory GaussSeidelSmoother")))));
     if (name == "SpaiSimpleSmoother")
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (name == "BlockGaussSeidelSmoother")

@@ -17,6 +17,8 @@
 //                            for single and blocked (merged on the fly) operators.
 //   Ilu0Smoother             ILU(0) with faster triangular solves than Ifpack2's RILUK
 //                            (ilu0_smoother.h), the sub-smoother type "ILU(0)".
+//   GaussSeidelSmoother      symmetric Gauss-Seidel, faster sweeps than Ifpack2's
+//                            (gauss_seidel_smoother.h), the sub-smoother type "SGS".
 #pragma once
 
 #include "types.h"
