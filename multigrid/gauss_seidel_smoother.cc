@@ -2,8 +2,6 @@
 
 #include "row_product.h"
 
-#include <MueLu_Level.hpp>
-#include <MueLu_Monitor.hpp>
 #include <Teuchos_ParameterList.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Import.hpp>
@@ -191,45 +189,5 @@ namespace multigrid
           }
       }
     Tpetra::deep_copy(tX, *own);
-  }
-
-  GaussSeidelSmoother::GaussSeidelSmoother(const RCP<::multigrid::Matrix>& A,
-                                           const GaussSeidelSettings&      settings)
-      : settings_(settings)
-      , sweeps_(std::make_shared<const SymmetricGaussSeidel>(A, settings))
-  {
-    IsSetup(true);
-  }
-
-  RCP<const Teuchos::ParameterList> GaussSeidelSmoother::GetValidParameterList() const
-  {
-    auto list = Teuchos::rcp(new Teuchos::ParameterList());
-    list->set<RCP<const MueLu::FactoryBase>>("A", Teuchos::null, "Generating factory of the matrix");
-    return list;
-  }
-
-  void GaussSeidelSmoother::DeclareInput(MueLu::Level& level) const
-  {
-    Input(level, "A");
-  }
-
-  void GaussSeidelSmoother::Setup(MueLu::Level& level)
-  {
-    MueLu::FactoryMonitor monitor(*this, "symmetric Gauss-Seidel (project)", level);
-    sweeps_ =
-        std::make_shared<const SymmetricGaussSeidel>(Get<RCP<::multigrid::Matrix>>(level, "A"), settings_);
-    IsSetup(true);
-  }
-
-  void GaussSeidelSmoother::Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
-                                  bool initial_guess_is_zero) const
-  {
-    sweeps_->apply(X, B, initial_guess_is_zero);
-  }
-
-  RCP<MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>
-  GaussSeidelSmoother::Copy() const
-  {
-    return Teuchos::rcp(new GaussSeidelSmoother(*this));
   }
 } // namespace multigrid

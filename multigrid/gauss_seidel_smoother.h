@@ -15,9 +15,9 @@
 // fully-coupled-sa-amg(simple)'s solve. This one computes the same sweeps to round-off.
 #pragma once
 
+#include "kernel_smoother.h"
 #include "types.h"
 
-#include <MueLu_SmootherPrototype.hpp>
 #include <Tpetra_CrsMatrix_fwd.hpp>
 #include <Tpetra_Import_fwd.hpp>
 #include <Tpetra_MultiVector_fwd.hpp>
@@ -50,6 +50,9 @@ namespace multigrid
   class SymmetricGaussSeidel
   {
   public:
+    using Settings                          = GaussSeidelSettings;
+    static constexpr const char* const name = "symmetric Gauss-Seidel (project)";
+
     /// A: an Xpetra matrix on Tpetra (not a blocked one) whose row, range and domain maps are the
     /// same. Throws InputError naming the local row if a diagonal entry is zero, missing or not
     /// finite.
@@ -83,31 +86,5 @@ namespace multigrid
 
   /// The symmetric Gauss-Seidel smoother in MueLu. Factory "GaussSeidelSmoother" with an optional
   /// sublist "ParameterList" (gauss_seidel_settings).
-  class GaussSeidelSmoother
-      : public MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>
-  {
-  public:
-    explicit GaussSeidelSmoother(const GaussSeidelSettings& settings = {})
-        : settings_(settings)
-    {
-    }
-    /// Already set up on A (for a hierarchy built from MueLu's easy-style list, where the
-    /// project's smoothers take the place of a placeholder after the set-up).
-    GaussSeidelSmoother(const RCP<::multigrid::Matrix>& A, const GaussSeidelSettings& settings);
-
-    RCP<const Teuchos::ParameterList> GetValidParameterList() const override;
-    void                              DeclareInput(MueLu::Level& level) const override;
-    void                              Setup(MueLu::Level& level) override;
-    void                              Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
-                                            bool initial_guess_is_zero = false) const override;
-
-    RCP<MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>
-                Copy() const override;
-    std::string description() const override { return "symmetric Gauss-Seidel (project)"; }
-    size_t      getNodeSmootherComplexity() const override { return sweeps_ ? sweeps_->nonzeros() : 0; }
-
-  private:
-    GaussSeidelSettings                         settings_;
-    std::shared_ptr<const SymmetricGaussSeidel> sweeps_;
-  };
+  using GaussSeidelSmoother = KernelSmoother<SymmetricGaussSeidel>;
 } // namespace multigrid

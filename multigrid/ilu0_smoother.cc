@@ -2,9 +2,6 @@
 
 #include "row_product.h"
 
-#include <MueLu_Level.hpp>
-#include <MueLu_Monitor.hpp>
-
 #include <Tpetra_CrsMatrix.hpp>
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_BlockedMultiVector.hpp>
@@ -82,9 +79,10 @@ namespace multigrid
     }
   } // namespace
 
-  Ilu0Factors::Ilu0Factors(const Matrix& A, const Ilu0Thresholds& thresholds)
+  Ilu0Factors::Ilu0Factors(const RCP<const Matrix>& A, const Ilu0Thresholds& thresholds)
+      : A_(A)
   {
-    LocalRows  a = local_rows(A);
+    LocalRows  a = local_rows(*A);
     const auto n = a.diagonal.size();
     // Ifpack2's perturbation of the diagonal before the factorization (identity by default);
     // a diagonal missing from A's pattern becomes the absolute threshold.
@@ -158,68 +156,30 @@ namespace multigrid
       }
   }
 
-  Ilu0Smoother::Ilu0Smoother(const RCP<::multigrid::Matrix>& A, const Ilu0Thresholds& thresholds)
-      : thresholds_(thresholds)
-      , A_(A)
-      , factors_(std::make_shared<const Ilu0Factors>(*A, thresholds))
+  void Ilu0Factors::apply(MultiVector& X, const MultiVector& B, bool zero_start) const
   {
-    IsSetup(true);
-  }
-
-  RCP<const Teuchos::ParameterList> Ilu0Smoother::GetValidParameterList() const
-  {
-    auto list = Teuchos::rcp(new Teuchos::ParameterList());
-    list->set<RCP<const MueLu::FactoryBase>>("A", Teuchos::null, "Generating factory of the matrix");
-    return list;
-  }
-
-  void Ilu0Smoother::DeclareInput(MueLu::Level& level) const
-  {
-    Input(level, "A");
-  }
-
-  void Ilu0Smoother::Setup(MueLu::Level& level)
-  {
-    MueLu::FactoryMonitor monitor(*this, "ILU(0) (project)", level);
-    A_       = Get<RCP<::multigrid::Matrix>>(level, "A");
-    factors_ = std::make_shared<const Ilu0Factors>(*A_, thresholds_);
-    IsSetup(true);
-  }
-
-  void Ilu0Smoother::Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
-                           bool initial_guess_is_zero) const
-  {
-    using Blocked =
-        Xpetra::BlockedMultiVector<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>;
+    using Blocked = Xpetra::BlockedMultiVector<SC, LO, GO, NO>;
     if (dynamic_cast<Blocked*>(&X) != nullptr || dynamic_cast<const Blocked*>(&B) != nullptr)
       throw std::logic_error("ILU(0): applied to a blocked vector; it smooths single blocks only");
-    if (X.getLocalLength() != factors_->rows() || B.getLocalLength() != factors_->rows())
+    if (X.getLocalLength() != rows() || B.getLocalLength() != rows())
       throw std::logic_error("ILU(0): vector length " + std::to_string(X.getLocalLength()) +
-                             " on this rank, the factors have " + std::to_string(factors_->rows()) + " rows");
-    if (initial_guess_is_zero)
+                             " on this rank, the factors have " + std::to_string(rows()) + " rows");
+    if (zero_start)
       {
         for (std::size_t j = 0; j < X.getNumVectors(); ++j)
-          factors_->solve(B.getData(j).get(), X.getDataNonConst(j).get());
+          solve(B.getData(j).get(), X.getDataNonConst(j).get());
         return;
       }
     // x += (L U)^-1 (b - A x)
-    auto r =
-        Xpetra::MultiVectorFactory<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>::Build(
-            X.getMap(), X.getNumVectors(), false);
+    auto r = Xpetra::MultiVectorFactory<SC, LO, GO, NO>::Build(X.getMap(), X.getNumVectors(), false);
     A_->apply(X, *r);
     r->update(1.0, B, -1.0);
     for (std::size_t j = 0; j < X.getNumVectors(); ++j)
       {
         auto data = r->getDataNonConst(j);
-        factors_->solve(data.get(), data.get());
+        solve(data.get(), data.get());
       }
     X.update(1.0, *r, 1.0);
-  }
-
-  RCP<MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>
-  Ilu0Smoother::Copy() const
-  {
-    return Teuchos::rcp(new Ilu0Smoother(*this));
   }
 
   Ilu0Thresholds ilu0_thresholds(const Teuchos::ParameterList& settings, const std::string& sublist,

@@ -20,9 +20,8 @@
 // substitution streams through its own triangle only.
 #pragma once
 
+#include "kernel_smoother.h"
 #include "types.h"
-
-#include <MueLu_SmootherPrototype.hpp>
 
 #include <cstddef>
 #include <memory>
@@ -40,12 +39,17 @@ namespace multigrid
   class Ilu0Factors
   {
   public:
+    using Settings                          = Ilu0Thresholds;
+    static constexpr const char* const name = "ILU(0) (project)";
+
     /// Factorizes the rank-local block of A (an Xpetra matrix on Tpetra; not a blocked one).
     /// Throws InputError naming the local row if a pivot is zero or not finite.
-    explicit Ilu0Factors(const Matrix& A, const Ilu0Thresholds& thresholds = {});
+    explicit Ilu0Factors(const RCP<const Matrix>& A, const Ilu0Thresholds& thresholds = {});
 
     /// x = (L U)^-1 b for one column of local values (x and b may be the same array).
     void solve(const double* b, double* x) const;
+    /// X = (L U)^-1 B from a zero start, else X += (L U)^-1 (B - A X).
+    void apply(MultiVector& X, const MultiVector& B, bool zero_start) const;
 
     std::size_t rows() const { return inverse_diagonal_.size(); }
     /// Stored entries: strict L, strict U and the diagonal.
@@ -59,6 +63,7 @@ namespace multigrid
       std::vector<LO>          columns;
       std::vector<double>      values;
     };
+    RCP<const Matrix>   A_;                ///< for the residual of a given start
     Triangle            lower_;            ///< l_ik, k < i (unit diagonal not stored)
     Triangle            upper_;            ///< u_ij, j > i
     std::vector<double> inverse_diagonal_; ///< 1 / u_ii
@@ -67,35 +72,7 @@ namespace multigrid
   /// ILU(0) as a MueLu smoother: x += (L U)^-1 (b - A x), from a zero start x = (L U)^-1 b.
   /// In the XML: factory "Ilu0Smoother" with an optional sublist "ParameterList" holding
   /// "fact: absolute threshold" and "fact: relative threshold".
-  class Ilu0Smoother
-      : public MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>
-  {
-  public:
-    explicit Ilu0Smoother(const Ilu0Thresholds& thresholds = {})
-        : thresholds_(thresholds)
-    {
-    }
-    /// Already set up on A (for a hierarchy built from MueLu's easy-style list, where the
-    /// project's smoothers take the place of a placeholder after the set-up).
-    Ilu0Smoother(const RCP<::multigrid::Matrix>& A, const Ilu0Thresholds& thresholds);
-
-    RCP<const Teuchos::ParameterList> GetValidParameterList() const override;
-    void                              DeclareInput(MueLu::Level& level) const override;
-    void                              Setup(MueLu::Level& level) override;
-    void                              Apply(::multigrid::MultiVector& X, const ::multigrid::MultiVector& B,
-                                            bool initial_guess_is_zero = false) const override;
-
-    RCP<MueLu::SmootherPrototype<::multigrid::SC, ::multigrid::LO, ::multigrid::GO, ::multigrid::NO>>
-                Copy() const override;
-    std::string description() const override { return "ILU(0) (project)"; }
-    /// The factors' stored entries on this rank.
-    size_t getNodeSmootherComplexity() const override { return factors_ ? factors_->nonzeros() : 0; }
-
-  private:
-    Ilu0Thresholds                     thresholds_;
-    RCP<::multigrid::Matrix>           A_;
-    std::shared_ptr<const Ilu0Factors> factors_;
-  };
+  using Ilu0Smoother = KernelSmoother<Ilu0Factors>;
 
   /// The thresholds in the sublist `sublist` of an "ILU(0)" smoother's `settings` (none there:
   /// Ifpack2's defaults). The sublist may also hold RILUK's "fact: iluk level-of-fill" = 0;

@@ -22,6 +22,7 @@
 
 using namespace multigrid;
 using test_helpers::comm;
+using test_helpers::error_of;
 using test_helpers::peer;
 namespace fs = std::filesystem;
 
@@ -63,19 +64,6 @@ namespace
     return bad;
   }
 
-  template <typename F>
-  std::string error_of(F&& f)
-  {
-    try
-      {
-        f();
-      }
-    catch (const InputError& e)
-      {
-        return e.what();
-      }
-    return "";
-  }
 } // namespace
 
 TEST(BlockSystemIO, ManifestRoundTripKeepsOperatorRhsNullspaceAndInterface)

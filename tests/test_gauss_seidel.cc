@@ -31,6 +31,7 @@
 
 using namespace multigrid;
 using test_helpers::comm;
+using test_helpers::error_of;
 
 namespace
 {
@@ -41,19 +42,6 @@ namespace
     Teuchos::Array<double> n(1);
     v.norm2(n);
     return n[0];
-  }
-
-  std::string error_of(const std::function<void()>& f)
-  {
-    try
-      {
-        f();
-      }
-    catch (const InputError& e)
-      {
-        return e.what();
-      }
-    return "";
   }
 
   RCP<const Matrix> displacement_block()

@@ -7,6 +7,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,20 @@ namespace test_helpers
   inline multigrid::RCP<const multigrid::Comm> comm()
   {
     return Tpetra::getDefaultComm();
+  }
+
+  /// The message of the InputError that f() throws ("" if it throws none).
+  inline std::string error_of(const std::function<void()>& f)
+  {
+    try
+      {
+        f();
+      }
+    catch (const multigrid::InputError& e)
+      {
+        return e.what();
+      }
+    return "";
   }
 
   /// A file (or the prefix P of P_matrix.mm) of the peer systems in tests/data/peer. Throws when
