@@ -25,7 +25,6 @@
 
 #include <functional>
 #include <map>
-#include <optional>
 
 namespace multigrid
 {

@@ -7,7 +7,9 @@
 #include <Xpetra_MultiVectorFactory.hpp>
 
 #include <cmath>
+#include <map>
 #include <sstream>
+#include <string>
 
 namespace multigrid
 {
@@ -141,12 +143,11 @@ namespace multigrid
         {
           // the project's ILU(0) (ilu0_smoother.h) or symmetric Gauss-Seidel
           // (gauss_seidel_smoother.h), or an Ifpack2 type through MueLu's TrilinosSmoother
-          const bool own = type == "ILU(0)" || type == "SGS";
-          List&      t   = factory(f, "Smoother" + s,
-                            type == "ILU(0)" ? "Ilu0Smoother"
-                                   : own            ? "GaussSeidelSmoother"
-                                                    : "TrilinosSmoother");
-          if (!own)
+          const std::map<std::string, std::string> own{{"ILU(0)", "Ilu0Smoother"},
+                                                       {"SGS", "GaussSeidelSmoother"}};
+          const auto                               o = own.find(type);
+          List& t = factory(f, "Smoother" + s, o != own.end() ? o->second : "TrilinosSmoother");
+          if (o == own.end())
             t.set("type", type);
           List& parameters = t.sublist("ParameterList");
           if (settings.isSublist("ParameterList"))
