@@ -18,12 +18,10 @@
 #include "kernel_smoother.h"
 #include "types.h"
 
-#include <Tpetra_CrsMatrix_fwd.hpp>
 #include <Tpetra_Import_fwd.hpp>
 #include <Tpetra_MultiVector_fwd.hpp>
 
 #include <cstddef>
-#include <memory>
 #include <string>
 #include <vector>
 
