@@ -14,6 +14,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string_view>
@@ -163,9 +164,14 @@ namespace multigrid
 
     RootRows read_rows(const std::string& file)
     {
+      // Room for the announced entries, at most one per 6 bytes of the file ("1 1 0\n"), so that
+      // a wrong header cannot ask for more memory than the file can fill.
       std::vector<std::tuple<GO, GO, SC>> entries;
-      const auto                          h = scan(file, true,
-                                                   [&](long long i, long long j, double v) { entries.emplace_back(i - 1, j - 1, v); });
+      const auto announced = scan(file, false, [](long long, long long, double) {}).entries;
+      entries.reserve(static_cast<std::size_t>(
+          std::clamp<long long>(announced, 0, static_cast<long long>(std::filesystem::file_size(file) / 6))));
+      const auto h = scan(file, true,
+                          [&](long long i, long long j, double v) { entries.emplace_back(i - 1, j - 1, v); });
       if (!h.coordinate)
         throw InputError(file + ": expected a Matrix Market coordinate matrix");
       // stable: duplicates are summed in the file's order
