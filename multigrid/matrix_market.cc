@@ -79,11 +79,11 @@ namespace multigrid
       return error == std::errc() && end == token.data() + token.size() && !token.empty();
     }
 
-    /// The header check and the pass over every entry line (with `check_entries`); `entry` is
-    /// called with the 1-based row and column (arrays: of the entry's place in column-major order)
-    /// and the value of every entry.
-    template <typename F>
-    MatrixMarketHeader scan(const std::string& file, bool check_entries, F&& entry)
+    /// The header check and the pass over every entry line (with `check_entries`); `size` is
+    /// called with the header once its size line is read, `entry` with the 1-based row and column
+    /// (arrays: of the entry's place in column-major order) and the value of every entry.
+    template <typename S, typename F>
+    MatrixMarketHeader scan(const std::string& file, bool check_entries, S&& size, F&& entry)
     {
       MatrixMarketHeader h;
       long long          line_no = 0, count = 0;
@@ -117,7 +117,8 @@ namespace multigrid
             if (!h.coordinate)
               h.entries = h.rows * h.cols;
             have_size = true;
-            done      = !check_entries;
+            size(h);
+            done = !check_entries;
             return check_entries;
           }
         ++count;
@@ -164,14 +165,15 @@ namespace multigrid
 
     RootRows read_rows(const std::string& file)
     {
+      std::vector<std::tuple<GO, GO, SC>> entries;
       // Room for the announced entries, at most one per 6 bytes of the file ("1 1 0\n"), so that
       // a wrong header cannot ask for more memory than the file can fill.
-      std::vector<std::tuple<GO, GO, SC>> entries;
-      const auto announced = scan(file, false, [](long long, long long, double) {}).entries;
-      entries.reserve(static_cast<std::size_t>(
-          std::clamp<long long>(announced, 0, static_cast<long long>(std::filesystem::file_size(file) / 6))));
-      const auto h = scan(file, true,
-                          [&](long long i, long long j, double v) { entries.emplace_back(i - 1, j - 1, v); });
+      const auto reserve = [&](const MatrixMarketHeader& header) {
+        const auto most = static_cast<long long>(std::filesystem::file_size(file) / 6);
+        entries.reserve(static_cast<std::size_t>(std::clamp<long long>(header.entries, 0, most)));
+      };
+      const auto keep = [&](long long i, long long j, double v) { entries.emplace_back(i - 1, j - 1, v); };
+      const auto h    = scan(file, true, reserve, keep);
       if (!h.coordinate)
         throw InputError(file + ": expected a Matrix Market coordinate matrix");
       // stable: duplicates are summed in the file's order
@@ -224,7 +226,8 @@ namespace multigrid
 
   MatrixMarketHeader scan_matrix_market(const std::string& file, bool check_entries)
   {
-    return scan(file, check_entries, [](long long, long long, double) {});
+    return scan(
+        file, check_entries, [](const MatrixMarketHeader&) {}, [](long long, long long, double) {});
   }
 
   RCP<Matrix> read_sparse_matrix_market(const std::string& file, const RCP<const Map>& row_map)
@@ -246,7 +249,7 @@ namespace multigrid
 
     // The whole matrix on rank 0, then each row to its owner in `row_map`: fillComplete numbers
     // the columns as Tpetra's reader's matrix does (the same column map, the same entry order).
-    const GO                 base    = map->getIndexBase();
+    const GO                 base      = map->getIndexBase();
     auto                     whole_map = Teuchos::rcp(new TpetraMap(n, root ? n : 0, base, comm));
     std::vector<std::size_t> counts(root ? n : 0);
     for (std::size_t i = 0; i < counts.size(); ++i)
