@@ -23,10 +23,8 @@
 
 #include "test_helpers.h"
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <regex>
 
 using namespace multigrid;
