@@ -67,16 +67,24 @@ namespace multigrid
       RCP<const ::multigrid::Map> map_;
     };
 
-    /// Amesos2's KLU2 as MueLu 13.2's coarse solver is not exact on more than one rank: on the
-    /// 4.1k-DOF Schur complement of beam_solid_block (r = 2), 2 ranks, a 2-level SA-AMG with a
-    /// 348-row coarse level needs 12 GMRES iterations against 7 with a third level (24 rows) and
-    /// 6 on one rank; a one-level "hierarchy" (KLU2 on the whole matrix) needs 14 instead of 1,
-    /// and it crashes when the row GIDs do not start at 0. On several ranks the project's
-    /// SuperLU replaces it (gathered to rank 0, like KLU2 would be).
-    bool replaces_amesos2(const Teuchos::ParameterList& list, int ranks)
+    /// The project's SuperLU replaces Amesos2's KLU2 as the coarse solver of single-field
+    /// hierarchies on every rank count:
+    /// - on several ranks KLU2 is not exact under MueLu 13.2: on the 4.1k-DOF Schur complement of
+    ///   beam_solid_block (r = 2), 2 ranks, a 2-level SA-AMG with a 348-row coarse level needs 12
+    ///   GMRES iterations against 7 with a third level (24 rows) and 6 on one rank; a one-level
+    ///   "hierarchy" (KLU2 on the whole matrix) needs 14 instead of 1, and it crashes when the
+    ///   row GIDs do not start at 0;
+    /// - on one rank MueLu 13.2's Amesos2Smoother::Setup does not factor: Amesos2 factors in the
+    ///   first solve, so the factorization was counted in the first GMRES iteration, and KLU's
+    ///   factorization is slow on the dense-ish coarse levels of 3D elasticity. On the 3D contact
+    ///   benchmark's 66 k system (cheapsimple(sa-amg), 4.6 k coarse rows with 158 entries each)
+    ///   KLU2 cost about 1.1 s inside the solve, SuperLU 0.26 s inside the set-up; the whole
+    ///   run fell from 0.77 + 2.9-3.2 s to 1.02-1.05 + 1.5 s with the same iterations.
+    /// SuperLU gathers the coarse matrix to rank 0, as KLU2 would.
+    bool replaces_amesos2(const Teuchos::ParameterList& list)
     {
       const std::string coarse = value_or<std::string>(list, "coarse: type", "KLU2");
-      return ranks > 1 && (coarse == "KLU2" || coarse == "Klu2" || coarse == "KLU" || coarse == "Klu");
+      return (coarse == "KLU2" || coarse == "Klu2" || coarse == "KLU" || coarse == "Klu");
     }
 
     /// MueLu 13.2's easy-style lists name Ifpack2's smoothers only. "smoother: type" or
@@ -137,9 +145,9 @@ namespace multigrid
         }
     }
 
-    std::string coarse_solver_name(const Teuchos::ParameterList& list, int ranks)
+    std::string coarse_solver_name(const Teuchos::ParameterList& list)
     {
-      return replaces_amesos2(list, ranks) ? "SuperLU (project adaptor, in place of Amesos2 on several ranks)"
+      return replaces_amesos2(list) ? "SuperLU (project adaptor, in place of Amesos2's KLU2)"
                                            : value_or<std::string>(list, "coarse: type", "KLU2");
     }
 
@@ -334,7 +342,7 @@ namespace multigrid
     use_project_smoothers(*H, project);
     // MueLu 13.2's Amesos2 coarse solve is not exact on several ranks: the project's SuperLU
     // takes the coarsest level's place.
-    if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
+    if (replaces_amesos2(parameters))
       use_superlu_coarse_solver(*H);
     return H;
   }
@@ -359,7 +367,7 @@ namespace multigrid
     set_up_on_kept_transfers(H, A);
     Teuchos::ParameterList list = parameters;
     use_project_smoothers(H, take_project_smoothers(list));
-    if (replaces_amesos2(parameters, A->getRowMap()->getComm()->getSize()))
+    if (replaces_amesos2(parameters))
       use_superlu_coarse_solver(H);
   }
 
@@ -429,9 +437,8 @@ namespace multigrid
         info_.notes.push_back("Schur complement nonzeros " + std::to_string(cs->schur_nonzeros()));
         info_.notes.push_back("inverse approximation nonzeros " +
                               std::to_string(cs->inverse_approximation_nonzeros()));
-        const int ranks     = system.comm()->getSize();
-        info_.coarse_solver = amg_predictor ? "primal: " + coarse_solver_name(p.sublist("primal solver"), ranks)
-                                            : "Schur: " + coarse_solver_name(p.sublist("schur solver"), ranks);
+        info_.coarse_solver = amg_predictor ? "primal: " + coarse_solver_name(p.sublist("primal solver"))
+                                            : "Schur: " + coarse_solver_name(p.sublist("schur solver"));
         op_                 = cs;
       }
     else if (preset.kind == "amg")
@@ -447,7 +454,7 @@ namespace multigrid
         });
         fill_levels(info_, level_sizes(*H));
         hierarchy_          = H;
-        info_.coarse_solver = coarse_solver_name(p.sublist("MueLu"), system.comm()->getSize());
+        info_.coarse_solver = coarse_solver_name(p.sublist("MueLu"));
         op_                 = Teuchos::rcp(new HierarchyOperator(H, system.full_map()));
       }
     else if (preset.kind == "saddle-point-amg" || preset.kind == "muelu")
