@@ -99,6 +99,19 @@ namespace multigrid
       ProjectSmoother coarse; ///< on the coarsest level
     };
 
+    /// A sublist's path as the preset file and `--set` write it ("primal solver"): Teuchos names
+    /// a sublist "PARENT->NAME", the root of a preset "ANONYMOUS".
+    std::string preset_path(const Teuchos::ParameterList& list)
+    {
+      std::string       path = list.name();
+      const std::string root = "ANONYMOUS->";
+      if (path.rfind(root, 0) == 0)
+        path.erase(0, root.size());
+      for (std::size_t at; (at = path.find("->")) != std::string::npos;)
+        path.replace(at, 2, "/");
+      return path;
+    }
+
     /// Takes the project's smoothers out of `list` (placeholders instead) and returns them.
     ProjectSmoothers take_project_smoothers(Teuchos::ParameterList& list)
     {
@@ -107,7 +120,7 @@ namespace multigrid
         {
           const std::string type   = value_or<std::string>(list, which + ": type", "");
           const std::string params = which + ": params";
-          const std::string where  = "'" + params + "'";
+          const std::string where  = "'" + preset_path(list) + "/" + params + "'";
           ProjectSmoother   make;
           if (type == "ILU(0)")
             make = [thresholds = ilu0_thresholds(list, params, where)](const RCP<Matrix>& A) {
