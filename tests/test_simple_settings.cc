@@ -60,7 +60,7 @@ namespace
   /// tied-blocks system coarsens under, and the given template parameters.
   Preset simple_preset(const std::vector<std::string>& settings)
   {
-    Preset                   p         = load_preset("pa-amg(cheapsimple)");
+    Preset p = load_preset("pa-amg(cheapsimple)");
     std::vector<std::string> overrides = {"template parameters/COARSE_MAX_SIZE=100"};
     for (const auto& s : settings)
       overrides.push_back("template parameters/" + s);
@@ -72,24 +72,20 @@ namespace
   Preset muelu_simple(const BlockSystem& system, bool lumped_schur, bool simplec)
   {
     const Preset project = simple_preset({});
-    std::string  xml = expand_template(project, system.block(0).dofs_per_node, system.block(1).dofs_per_node);
+    std::string  xml     = expand_template(project, system.block(0).dofs_per_node, system.block(1).dofs_per_node);
     const std::string schur = std::string(R"(<ParameterList name="Schur">)") +
                               R"(<Parameter name="factory" type="string" value="SchurComplementFactory"/>)" +
                               R"(<Parameter name="omega" type="double" value="1.0"/>)" +
                               R"(<Parameter name="lumping" type="bool" value=")" +
                               (lumped_schur ? "true" : "false") + R"("/></ParameterList>)";
-    xml =
-        std::regex_replace(xml, std::regex(R"(<ParameterList name="Schur">[\s\S]*?</ParameterList>)"), schur);
-    xml = std::regex_replace(
-        xml, std::regex(R"(value="SpaiSimpleSmoother"/>)"),
-        std::string(R"(value="SimpleSmoother"/><Parameter name="UseSIMPLEC" type="bool" value=")") +
-            (simplec ? "true" : "false") + "\"/>");
+    xml = std::regex_replace(xml, std::regex(R"(<ParameterList name="Schur">[\s\S]*?</ParameterList>)"), schur);
+    xml = std::regex_replace(xml, std::regex(R"(value="SpaiSimpleSmoother"/>)"),
+                             std::string(R"(value="SimpleSmoother"/><Parameter name="UseSIMPLEC" type="bool" value=")") +
+                                 (simplec ? "true" : "false") + "\"/>");
     xml = std::regex_replace(xml, std::regex(R"(<Parameter name="Undamped update"[^>]*/>)"), "");
-    xml = std::regex_replace(
-        xml, std::regex(R"(<Parameter name="Ainv" type="string" value="Ainv-[a-z-]*"/>)"), "");
+    xml = std::regex_replace(xml, std::regex(R"(<Parameter name="Ainv" type="string" value="Ainv-[a-z-]*"/>)"), "");
     // the comparison is only worth something if MueLu's factories really replaced ours
-    if (xml.find("SpaiSimpleSmoother") != std::string::npos ||
-        xml.find("SpaiSchurComplementFactory") != std::string::npos ||
+    if (xml.find("SpaiSimpleSmoother") != std::string::npos || xml.find("SpaiSchurComplementFactory") != std::string::npos ||
         xml.find("\"SimpleSmoother\"") == std::string::npos)
       throw std::logic_error("muelu_simple: the template's SIMPLE or Schur lists were not replaced");
     Preset muelu;
@@ -103,8 +99,8 @@ namespace
 TEST(InverseApproximation, RowSumsAndAbsoluteRowSums)
 {
   // [[4, -1, 0], [-1, 4, -2], [0, -2, 3]] on one rank's rows
-  auto         map          = Tpetra::createUniformContigMap<LO, GO>(3, comm());
-  auto         A            = Teuchos::rcp(new TpetraMatrix(map, 3));
+  auto map = Tpetra::createUniformContigMap<LO, GO>(3, comm());
+  auto A   = Teuchos::rcp(new TpetraMatrix(map, 3));
   const double values[3][3] = {{4, -1, 0}, {-1, 4, -2}, {0, -2, 3}};
   for (LO i = 0; i < static_cast<LO>(map->getNodeNumElements()); ++i)
     {
@@ -122,13 +118,12 @@ TEST(InverseApproximation, RowSumsAndAbsoluteRowSums)
       const auto inv = approximate_inverse(*A, options);
       for (LO i = 0; i < static_cast<LO>(map->getNodeNumElements()); ++i)
         {
-          const GO                                         row = map->getGlobalElement(i);
+          const GO row = map->getGlobalElement(i);
           typename TpetraMatrix::local_inds_host_view_type inds;
           typename TpetraMatrix::values_host_view_type     vals;
           inv->getLocalRowView(i, inds, vals);
           ASSERT_EQ(inds.extent(0), 1u);
-          EXPECT_DOUBLE_EQ(vals(0), 1.0 / (type == "row-sum" ? row_sum[row] : absolute[row]))
-              << type << " row " << row;
+          EXPECT_DOUBLE_EQ(vals(0), 1.0 / (type == "row-sum" ? row_sum[row] : absolute[row])) << type << " row " << row;
         }
     }
 }
@@ -136,8 +131,8 @@ TEST(InverseApproximation, RowSumsAndAbsoluteRowSums)
 TEST(InverseApproximation, RowSumOfAStiffnessMatrixIsRefused)
 {
   // the free rows of an elastic stiffness matrix sum to zero: a rigid translation is in its kernel
-  const auto                  system = tied_blocks_2d(comm(), {});
-  const auto                  A      = system.blocked_matrix()->getMatrix(0, 0);
+  const auto system = tied_blocks_2d(comm(), {});
+  const auto A      = system.blocked_matrix()->getMatrix(0, 0);
   InverseApproximationOptions options;
   options.type = "row-sum";
   try
@@ -159,15 +154,12 @@ TEST(SimpleSettings, ReproduceMueLusSimpleSmoother)
     std::string schur, update;
     bool        lumped_schur, simplec;
   };
-  for (const Case& c :
-       {Case{"diagonal", "diagonal", false, false}, Case{"absolute-row-sum", "absolute-row-sum", true, true},
-        Case{"absolute-row-sum", "diagonal", true, false}})
+  for (const Case& c : {Case{"diagonal", "diagonal", false, false}, Case{"absolute-row-sum", "absolute-row-sum", true, true},
+                        Case{"absolute-row-sum", "diagonal", true, false}})
     {
-      const auto ours =
-          apply_once(system, simple_preset({"SCHUR_INVERSE=" + c.schur, "UPDATE_INVERSE=" + c.update}));
+      const auto ours   = apply_once(system, simple_preset({"SCHUR_INVERSE=" + c.schur, "UPDATE_INVERSE=" + c.update}));
       const auto theirs = apply_once(system, muelu_simple(system, c.lumped_schur, c.simplec));
-      EXPECT_LT(relative_difference(*theirs, *ours), 1e-11)
-          << "S with " << c.schur << ", update " << c.update;
+      EXPECT_LT(relative_difference(*theirs, *ours), 1e-11) << "S with " << c.schur << ", update " << c.update;
     }
 }
 
@@ -175,11 +167,9 @@ TEST(SimpleSettings, EachSettingChangesTheCycle)
 {
   const auto system    = tied_blocks_2d(comm(), {});
   const auto reference = apply_once(system, simple_preset({}));
-  for (const std::string setting :
-       {"SCHUR_INVERSE=absolute-row-sum", "SCHUR_INVERSE=spai", "UPDATE_INVERSE=absolute-row-sum",
-        "UNDAMPED_UPDATE=true", "PREDICTOR_SWEEPS=3", "SMOOTHER_SWEEPS=3"})
-    EXPECT_GT(relative_difference(*reference, *apply_once(system, simple_preset({setting}))), 1e-6)
-        << setting;
+  for (const std::string setting : {"SCHUR_INVERSE=absolute-row-sum", "SCHUR_INVERSE=spai", "UPDATE_INVERSE=absolute-row-sum",
+                                    "UNDAMPED_UPDATE=true", "PREDICTOR_SWEEPS=3", "SMOOTHER_SWEEPS=3"})
+    EXPECT_GT(relative_difference(*reference, *apply_once(system, simple_preset({setting}))), 1e-6) << setting;
 }
 
 TEST(SimpleSettings, CheapSimpleUpdateInverse)
