@@ -353,8 +353,8 @@ namespace multigrid
       H->GetLevel(0)->Set("Coordinates", coordinates);
     interpreter.SetupHierarchy(*H);
     use_project_smoothers(*H, project);
-    // MueLu 13.2's Amesos2 coarse solve is not exact on several ranks: the project's SuperLU
-    // takes the coarsest level's place.
+    // KLU2 (MueLu's default coarse solve): the project's SuperLU takes the coarsest level's place
+    // on every rank count (replaces_amesos2 says why).
     if (replaces_amesos2(parameters))
       use_superlu_coarse_solver(*H);
     return H;
