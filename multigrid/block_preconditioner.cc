@@ -84,7 +84,7 @@ namespace multigrid
     bool replaces_amesos2(const Teuchos::ParameterList& list)
     {
       const std::string coarse = value_or<std::string>(list, "coarse: type", "KLU2");
-      return (coarse == "KLU2" || coarse == "Klu2" || coarse == "KLU" || coarse == "Klu");
+      return coarse == "KLU2" || coarse == "Klu2" || coarse == "KLU" || coarse == "Klu";
     }
 
     /// MueLu 13.2's easy-style lists name Ifpack2's smoothers only. "smoother: type" or
@@ -161,7 +161,7 @@ namespace multigrid
     std::string coarse_solver_name(const Teuchos::ParameterList& list)
     {
       return replaces_amesos2(list) ? "SuperLU (project adaptor, in place of Amesos2's KLU2)"
-                                           : value_or<std::string>(list, "coarse: type", "KLU2");
+                                    : value_or<std::string>(list, "coarse: type", "KLU2");
     }
 
     /// Level table and operator complexity (sum of nonzeros over the fine level's).
