@@ -23,9 +23,20 @@ from json_output import write_json_atomically
 
 PRESETS = ["emin(cheapsimple)", "pa-amg(cheapsimple)", "sa-amg(cheapsimple)", "fully-coupled-sa-amg(simple)",
            "cheapsimple(sa-amg)", "cheapsimple(pa-amg)"]
-# the overrides the rings example runs with (apps/contact_rings_2d.prm)
-RINGS_OVERRIDES = ["[emin(cheapsimple)] template parameters/MIN_AGG_SIZE=6",
-                   "[emin(cheapsimple)] template parameters/COARSE_MAX_SIZE=2000"]
+RINGS_PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "apps", "contact_rings_2d.prm")
+
+
+def rings_overrides():
+    """The `Linear solver/Overrides` of the rings example (apps/contact_rings_2d.prm), one per entry.
+
+    Read from the .prm rather than copied here, so the benchmark solves with what the example runs
+    (ParameterHandler's syntax: a line ending in a backslash continues on the next one)."""
+    text = open(RINGS_PRM).read().replace("\\\n", " ")
+    for line in text.split("\n"):
+        words = line.split("#")[0].split("=", 1)
+        if len(words) == 2 and words[0].split() == ["set", "Overrides"]:
+            return [o.strip() for o in words[1].split(";") if o.strip()]
+    sys.exit(f"benchmark_rings_presets.py: {RINGS_PRM} has no 'set Overrides' (expected the rings example's)")
 
 
 def active_nodes(directory):
@@ -75,7 +86,7 @@ def main():
     ap.add_argument("--tol", type=float, default=1e-8)
     ap.add_argument("--json", help="write the table to this file")
     a = ap.parse_args()
-    overrides = RINGS_OVERRIDES if a.overrides is None else a.overrides
+    overrides = rings_overrides() if a.overrides is None else a.overrides
     for d in a.systems:
         if not os.path.exists(os.path.join(d, "manifest.txt")):
             sys.exit(f"benchmark_rings_presets.py: --systems: {d} has no manifest.txt (expected a BlockSystem directory)")
