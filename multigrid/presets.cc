@@ -75,6 +75,42 @@ namespace multigrid
         }
     }
 
+    Teuchos::ParameterList read_preset_list(const std::string& file, std::set<std::string> chain = {});
+
+    /// A preset may be written as its differences from another: "based on" names a shipped preset
+    /// whose parameters it starts from; its own entries replace the base's or add to them, and a
+    /// sublist is merged entry by entry (Teuchos' setParameters). So a variant states only what it
+    /// changes (fully-coupled-pa-amg(bgs): the prolongator) and follows its base's other settings.
+    Teuchos::ParameterList with_base(Teuchos::ParameterList list, const std::string& file,
+                                     std::set<std::string> chain)
+    {
+      if (!list.isParameter("based on"))
+        return list;
+      if (!list.isType<std::string>("based on"))
+        throw InputError(file + ": parameter 'based on' must be of type string");
+      const std::string base = list.get<std::string>("based on");
+      if (!chain.insert(base).second)
+        throw InputError(file + ": parameter 'based on' is '" + base +
+                         "', which is based on this preset (a cycle)");
+      const std::string base_file = (fs::path(preset_directory()) / file_name_of(base)).string();
+      if (!fs::is_regular_file(base_file))
+        throw InputError(file + ": parameter 'based on' is '" + base + "', expected a shipped preset (no " +
+                         base_file + ")");
+      Teuchos::ParameterList merged = read_preset_list(base_file, chain);
+      list.remove("based on");
+      merged.setParameters(list);
+      return merged;
+    }
+
+    /// The XML file's list with its base preset's entries merged in ("based on", recursively).
+    Teuchos::ParameterList read_preset_list(const std::string& file, std::set<std::string> chain)
+    {
+      auto list = read_xml(file);
+      if (list.isType<std::string>("name"))
+        chain.insert(list.get<std::string>("name"));
+      return with_base(std::move(list), file, std::move(chain));
+    }
+
     /// What each kind's builder reads without a default, so that a preset file lacking one is
     /// refused when it is read (not as a Teuchos lookup error in the middle of the setup).
     void check_required_parameters(const Preset& p, const std::string& file)
@@ -347,7 +383,7 @@ namespace multigrid
           known += (known.empty() ? "" : ", ") + n;
         throw InputError("--preset: unknown preset '" + name + "' (known: " + known + ")");
       }
-    const auto        list   = read_xml(file);
+    const auto        list   = read_preset_list(file);
     const std::string stored = list.isParameter("name") ? list.get<std::string>("name") : std::string();
     if (stored != name)
       throw InputError(file + ": parameter 'name' is '" + stored + "', expected '" + name + "'");
@@ -356,7 +392,7 @@ namespace multigrid
 
   Preset load_preset_file(const std::string& file)
   {
-    const auto        list = read_xml(file);
+    const auto        list = read_preset_list(file);
     const std::string name =
         list.isParameter("name") ? list.get<std::string>("name") : fs::path(file).filename().string();
     return from_list(name, list, file);

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 using namespace multigrid;
 using test_helpers::comm;
@@ -350,4 +351,52 @@ TEST(Presets, OverridesAreTypedAndChecked)
           EXPECT_NO_THROW(expand_template(preset, 2, 2)) << name;
         }
     }
+}
+
+TEST(Presets, BasedOnMergesTheBasePresetsEntries)
+{
+  // fully-coupled-pa-amg(bgs) states only its prolongator; the rest comes from its base.
+  const auto pa = load_preset("fully-coupled-pa-amg(bgs)");
+  const auto sa = load_preset("fully-coupled-sa-amg(bgs)");
+  EXPECT_EQ(pa.kind, "fully-coupled-amg");
+  EXPECT_FALSE(pa.parameters.isParameter("based on"));
+  EXPECT_EQ(pa.parameters.get<std::string>("prolongator"), "tentative");
+  EXPECT_EQ(sa.parameters.get<std::string>("prolongator"), "smoothed");
+  EXPECT_EQ(pa.parameters.get<int>("smoother: sweeps"), 3);
+  EXPECT_EQ(pa.parameters.get<int>("coarse: max size"), 6500);
+  // Sublists are merged entry by entry, not replaced.
+  EXPECT_EQ(pa.parameters.sublist("block smoothers").sublist("fluid").get<std::string>("type"), "ILU(0)");
+  EXPECT_EQ(pa.parameters.sublist("block prolongators").get<std::string>("fluid"), "tentative");
+
+  // A user's file may be based on a shipped preset, and replace one entry of a sublist.
+  const fs::path dir = fs::temp_directory_path() / ("based_on_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto write = [&](const std::string& file, const std::string& body) {
+    std::ofstream((dir / file).string()) << "<ParameterList name=\"x\">\n" << body << "</ParameterList>\n";
+    return (dir / file).string();
+  };
+  const auto user = load_preset_file(write(
+      "user.xml", "  <Parameter name=\"based on\" type=\"string\" value=\"fully-coupled-pa-amg(bgs)\"/>\n"
+                  "  <ParameterList name=\"block smoothers\"><ParameterList name=\"fluid\">\n"
+                  "    <Parameter name=\"type\" type=\"string\" value=\"RILUK\"/>\n"
+                  "  </ParameterList></ParameterList>\n"));
+  EXPECT_EQ(user.kind, "fully-coupled-amg");
+  EXPECT_EQ(user.parameters.get<std::string>("prolongator"), "tentative");
+  EXPECT_EQ(user.parameters.sublist("block smoothers").sublist("fluid").get<std::string>("type"), "RILUK");
+  EXPECT_EQ(user.parameters.sublist("block smoothers").sublist("ale").get<std::string>("type"), "CHEBYSHEV");
+
+  const auto unknown = error_of([&] {
+    load_preset_file(
+        write("unknown.xml", "  <Parameter name=\"based on\" type=\"string\" value=\"no-such-preset\"/>\n"));
+  });
+  EXPECT_NE(unknown.find("unknown.xml: parameter 'based on' is 'no-such-preset', expected a shipped preset"),
+            std::string::npos)
+      << unknown;
+  const auto cycle = error_of([&] {
+    load_preset_file(write("cycle.xml",
+                           "  <Parameter name=\"name\" type=\"string\" value=\"sa-amg\"/>\n"
+                           "  <Parameter name=\"based on\" type=\"string\" value=\"sa-amg\"/>\n"));
+  });
+  EXPECT_NE(cycle.find("(a cycle)"), std::string::npos) << cycle;
+  fs::remove_all(dir);
 }

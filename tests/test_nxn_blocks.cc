@@ -48,8 +48,8 @@ namespace
 {
   using MVF = Xpetra::MultiVectorFactory<SC, LO, GO, NO>;
 
-  const std::vector<std::string> nxn_presets = {"fully-coupled-sa-amg(bgs)", "bgs(amg)", "block-jacobi(amg)",
-                                                "direct(superlu)"};
+  const std::vector<std::string> nxn_presets = {"fully-coupled-sa-amg(bgs)", "fully-coupled-pa-amg(bgs)",
+                                                "bgs(amg)", "block-jacobi(amg)", "direct(superlu)"};
 
   double norm(const MultiVector& v)
   {
@@ -457,7 +457,7 @@ TEST_P(NxnPresets, SolveTheExportedFsiChannelSystems)
   // The channel systems are smaller than the preset's coarse size 6500: a smaller one makes the
   // fully coupled hierarchy multilevel.
   std::vector<std::string> overrides;
-  if (GetParam() == "fully-coupled-sa-amg(bgs)")
+  if (GetParam().rfind("fully-coupled-", 0) == 0)
     overrides = {"coarse: max size=300"};
   const auto systems = fsi_channel_systems();
   ASSERT_GE(systems.size(), 2u) << "expected at least two Newton systems";

@@ -33,7 +33,8 @@ namespace
                                                          "block-diagonal-sa-amg"};
   const std::vector<std::string> single_field_presets = {"pa-amg", "sa-amg"};
   /// The n x n block presets (FSI), applied to the 3-block model system.
-  const std::vector<std::string> nxn_presets = {"fully-coupled-sa-amg(bgs)", "bgs(amg)", "block-jacobi(amg)"};
+  const std::vector<std::string> nxn_presets = {"fully-coupled-sa-amg(bgs)", "fully-coupled-pa-amg(bgs)",
+                                                "bgs(amg)", "block-jacobi(amg)"};
 
   /// K + eps B^T B on the primal DOFs of tied-blocks: the bodies tied by a penalty instead of
   /// multipliers (eps of the order of the stiffness entries).
