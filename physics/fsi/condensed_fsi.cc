@@ -562,6 +562,22 @@ namespace physics::fsi
     return system;
   }
 
+  template <int dim>
+  double CondensedFsi<dim>::ale_residual_scale() const
+  {
+    TrilinosWrappers::MPI::Vector inner(d_G_), forces(mesh_owned_, comm_);
+    for (const auto m : mesh_owned_)
+      if (mesh_partner_.count(m) > 0)
+        inner[m] = 0.0; // the interface's share is the other side of the balance
+    inner.compress(VectorOperation::insert);
+    mesh_motion_->stiffness().vmult(forces, inner);
+    double squares = 0;
+    for (const auto m : mesh_owned_)
+      if (mesh_partner_.count(m) == 0 && mesh_fixed_.count(m) == 0)
+        squares += forces[m] * forces[m];
+    return std::sqrt(Utilities::MPI::sum(squares, comm_));
+  }
+
   template class CondensedFsi<2>;
   template class CondensedFsi<3>;
 } // namespace physics::fsi

@@ -100,6 +100,10 @@ namespace physics::fsi
                         dealii::TrilinosWrappers::SparseMatrix*  S,
                         const dealii::AffineConstraints<double>* constraints = nullptr);
     multigrid::BlockSystem assemble(std::vector<double>& norms);
+    /// The natural size of the ALE residual (Newton's relative tolerance counts against it):
+    /// ||K_II d_I|| over the inner, movable ALE rows, the mesh's internal forces from its inner
+    /// displacements, which the interface's share K_IGamma d_Gamma balances at convergence.
+    double ale_residual_scale() const;
     /// The fluid's volume (on the moved mesh) and the flow rates through the inlet, the outlet
     /// and the interface (outward normals; the inlet's is counted as inflow) at the current state.
     struct FluidBalance

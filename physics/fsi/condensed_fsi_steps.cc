@@ -79,6 +79,10 @@ namespace physics::fsi
     system_       = multigrid::BlockSystem(); // the last Newton matrix: freed before the next is built
     system_       = assemble(result.residual_norms);
     result.system = &system_;
+    // The ALE equations are linear with a zero right-hand side: after the first update their
+    // residual is only the linear solve's error, so its own first norm is no reference, and the
+    // absolute tolerance alone (a number in the mesh stiffness' units) would decide.
+    result.residual_scales = {0.0, 0.0, ale_residual_scale()};
     return result;
   }
 
