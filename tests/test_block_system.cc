@@ -3,6 +3,7 @@
 #include "block_system_io.h"
 #include "model_problems.h"
 #include "presets.h"
+#include "spatial_order.h"
 
 #include <Tpetra_Core.hpp>
 #include <Xpetra_IO.hpp>
@@ -19,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <unistd.h>
 
 using namespace multigrid;
@@ -399,4 +401,47 @@ TEST(Presets, BasedOnMergesTheBasePresetsEntries)
   });
   EXPECT_NE(cycle.find("(a cycle)"), std::string::npos) << cycle;
   fs::remove_all(dir);
+}
+
+TEST(BlockSystemIO, MortonKeysCutEveryFieldAcrossTheLongestDirection)
+{
+  // Two fields on a 4 x 1 strip (a 20 x 5 grid and a 40 x 10 grid of nodes, shuffled): sorted by
+  // their keys and cut into halves, each field's first half lies in x < 2 and its second in
+  // x > 2, the same side in both fields; a 1D field and a field without coordinates pass.
+  std::vector<std::vector<double>> xyz(4);
+  std::vector<int>                 dims = {2, 2, 1, 0};
+  auto                             grid = [](int nx, int ny) {
+    std::vector<std::pair<double, double>> p;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        p.emplace_back(4.0 * (i + 0.5) / nx, (j + 0.5) / ny);
+    std::reverse(p.begin(), p.end());
+    std::rotate(p.begin(), p.begin() + p.size() / 3, p.end());
+    std::vector<double> columns(2 * p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      {
+        columns[i]            = p[i].first;
+        columns[p.size() + i] = p[i].second;
+      }
+    return columns;
+  };
+  xyz[0]          = grid(20, 5);
+  xyz[1]          = grid(40, 10);
+  xyz[2]          = {3.5, 0.5, 2.5, 1.5};
+  const auto keys = morton_keys(xyz, dims);
+  ASSERT_EQ(keys.size(), 4u);
+  for (int k = 0; k < 2; ++k)
+    {
+      const std::size_t n = xyz[k].size() / 2;
+      ASSERT_EQ(keys[k].size(), n);
+      std::vector<std::size_t> order(n);
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](auto a, auto b) { return keys[k][a] < keys[k][b]; });
+      for (std::size_t r = 0; r < n; ++r)
+        EXPECT_EQ(xyz[k][order[r]] < 2.0, r < n / 2) << "field " << k << " position " << r;
+    }
+  EXPECT_LT(keys[2][1], keys[2][3]);
+  EXPECT_LT(keys[2][3], keys[2][2]);
+  EXPECT_LT(keys[2][2], keys[2][0]);
+  EXPECT_TRUE(keys[3].empty());
 }
