@@ -324,6 +324,9 @@ namespace multigrid
           dims[k] = static_cast<int>(header.cols);
           for (const auto& line : array_lines(file))
             xyz[k].push_back(std::strtod(line.c_str(), nullptr));
+          if (static_cast<long long>(xyz[k].size()) != header.rows * header.cols)
+            throw InputError(file + ": " + std::to_string(xyz[k].size()) + " values, the header says " +
+                             std::to_string(header.rows) + " x " + std::to_string(header.cols));
         }
       return morton_keys(xyz, dims);
     }
