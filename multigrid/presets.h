@@ -10,6 +10,8 @@
 //   fully-coupled-amg one monolithic SA-AMG for n x n blocks, block Gauss-Seidel level smoother
 //                     (fully_coupled_amg.h)
 //   block-relaxation  block Gauss-Seidel / Jacobi outside, one solver per block (block_relaxation.h)
+// A preset file may name another shipped preset in "based on": it then holds only its changes,
+// merged into that preset's parameters entry by entry (fully-coupled-pa-amg_bgs.xml).
 // Any value can be overridden: "PATH=VALUE" with '/' between sublists, e.g.
 // "template parameters/MAX_LEVELS=2" or "primal solver/max levels=2".
 #pragma once
