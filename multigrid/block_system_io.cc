@@ -318,7 +318,8 @@ namespace multigrid
           const auto& file = d.blocks[k].coordinates;
           if (file.empty())
             continue;
-          const auto header = scan_matrix_market(file);
+          // Its entries were checked on rank 0 (load); here the header and the count suffice.
+          const auto header = scan_matrix_market(file, false);
           if (header.coordinate || header.cols < 1 || header.cols > 3)
             throw InputError(file + ": expected a Matrix Market array of 1 to 3 columns (coordinates)");
           dims[k] = static_cast<int>(header.cols);

@@ -21,7 +21,6 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
-#include <unistd.h>
 
 using namespace multigrid;
 using test_helpers::comm;
@@ -371,7 +370,8 @@ TEST(Presets, BasedOnMergesTheBasePresetsEntries)
   EXPECT_EQ(pa.parameters.sublist("block prolongators").get<std::string>("fluid"), "tentative");
 
   // A user's file may be based on a shipped preset, and replace one entry of a sublist.
-  const fs::path dir = fs::temp_directory_path() / ("based_on_" + std::to_string(::getpid()));
+  // One directory per rank: every rank writes and reads its own files.
+  const fs::path dir = scratch("based_on_rank" + std::to_string(comm()->getRank()));
   fs::create_directories(dir);
   auto write = [&](const std::string& file, const std::string& body) {
     std::ofstream((dir / file).string()) << "<ParameterList name=\"x\">\n" << body << "</ParameterList>\n";
