@@ -238,7 +238,7 @@ namespace multigrid
     /// A blocked MueLu hierarchy from a factory-style list (Factories + Hierarchy) on the
     /// system's n x n operator; block k's near-nullspace is level 0's "Nullspace<k+1>".
     RCP<Hierarchy> build_blocked_hierarchy(const BlockSystem& system, const Teuchos::ParameterList& muelu,
-                                           const SetupOptions& options)
+                                           const SetupOptions& options, const LeaderNodeMaps& node_maps = {})
     {
       auto comm = system.comm();
       Teuchos::ParameterList list = muelu;
@@ -253,6 +253,9 @@ namespace multigrid
       L0->Set("A", Teuchos::rcp_dynamic_cast<Matrix>(system.blocked_matrix()));
       for (std::size_t k = 0; k < system.n_blocks(); ++k)
         L0->Set("Nullspace" + std::to_string(k + 1), system.nullspace_or_translations(k));
+      // n x n systems: the node maps of blocks that copy another block's aggregates
+      for (const auto& [name, map] : node_maps)
+        L0->Set(name, Teuchos::rcp(new std::map<LO, LO>(map)));
       // Contact/meshtying systems: the interface data of the saddle-point template (block systems
       // without an interface, e.g. beam/solid, use templates that do not ask for it).
       if (system.has_interface())
@@ -506,10 +509,11 @@ namespace multigrid
     else if (preset.kind == "fully-coupled-amg")
       {
         check_fully_coupled(preset, system);
-        auto muelu = fully_coupled_muelu_list(preset, system);
+        auto muelu     = fully_coupled_muelu_list(preset, system);
+        auto node_maps = follower_node_maps(preset, system, info_.notes);
         rebalance_coarse_levels(muelu, options);
-        auto H =
-            with_preset_context(preset.name, [&] { return build_blocked_hierarchy(system, muelu, options); });
+        auto H = with_preset_context(
+            preset.name, [&] { return build_blocked_hierarchy(system, muelu, options, node_maps); });
         fill_levels(info_, level_sizes(*H));
         fill_block_rows(info_, *H);
         info_.coarse_solver = "SuperLU (project adaptor, blocks merged)";

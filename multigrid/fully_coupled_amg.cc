@@ -1,13 +1,20 @@
 #include "fully_coupled_amg.h"
 
+#include "project_factories.h"
+#include "spatial_order.h"
+
 #include <MueLu_Hierarchy.hpp>
 #include <MueLu_Level.hpp>
 #include <MueLu_SmootherBase.hpp>
 
+#include <Teuchos_CommHelpers.hpp>
+
 #include <Xpetra_MultiVectorFactory.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -61,16 +68,44 @@ namespace multigrid
       return p.get<std::string>("prolongator");
     }
 
-    /// Aggregation, tentative and (smoothed) prolongator and coarse nullspace of block k,
-    /// collected in the group "Field<k>".
-    void add_field_transfer(List& f, std::size_t k, const List& p, bool smoothed)
+    /// "LeaderNodes<k>": the level-0 user data holding block k's follower -> leader node mapping.
+    std::string leader_map_name(std::size_t k)
+    {
+      return "LeaderNodes" + std::to_string(k);
+    }
+
+    /// The block whose aggregates block k copies: its entry in the optional sublist
+    /// "block aggregates" (FOLLOWER = LEADER, block names; LEADER "own": none), else none. The leader must
+    /// come before block k (the factory list refers to factories defined before) and aggregate on its own.
+    std::optional<std::size_t> leader_of(const List& p, const BlockSystem& system, std::size_t k,
+                                         const std::string& preset)
+    {
+      const std::string& name = system.block(k).name;
+      if (!p.isSublist("block aggregates") || !p.sublist("block aggregates").isParameter(name))
+        return std::nullopt;
+      const List& follow = p.sublist("block aggregates");
+      if (!follow.isType<std::string>(name))
+        throw InputError("preset '" + preset + "': 'block aggregates/" + name + "' must be a block name");
+      const std::string leader = follow.get<std::string>(name);
+      if (leader == "own")
+        return std::nullopt;
+      for (std::size_t l = 0; l < k; ++l)
+        if (system.block(l).name == leader)
+          {
+            if (leader_of(p, system, l, preset))
+              throw InputError("preset '" + preset + "': block '" + name + "' follows block '" + leader +
+                               "', which follows another block; name that one");
+            return l;
+          }
+      throw InputError("preset '" + preset + "': 'block aggregates/" + name + "' = '" + leader +
+                       "' names no block before '" + name + "' in this system");
+    }
+
+    /// Block k's aggregates from its own diagonal block: MueLu's uncoupled aggregation of the
+    /// node graph (striding from the block's map), "Amalgamation<k>" the DOF <-> node translation.
+    void add_own_aggregation(List& f, std::size_t k, const List& p)
     {
       const std::string s = std::to_string(k);
-      List&             A = factory(f, "A" + s, "SubBlockAFactory");
-      A.set("block row", static_cast<int>(k));
-      A.set("block col", static_cast<int>(k));
-      // no striding here: SubBlockAFactory takes it from the block's strided map on every level
-      // (DOFs per node on level 0, the nullspace dimension below).
       factory(f, "Amalgamation" + s, "AmalgamationFactory").set("A", "A" + s);
       List& graph = factory(f, "Graph" + s, "CoalesceDropFactory");
       graph.set("A", "A" + s);
@@ -82,6 +117,45 @@ namespace multigrid
       aggregates.set("aggregation: ordering", std::string("graph"));
       aggregates.set("aggregation: min agg size", p.get<int>("aggregation: min agg size"));
       aggregates.set("aggregation: max selected neighbors", 0);
+    }
+
+    /// Block k's aggregates copied from block `leader`'s (node_interface_aggregation.h): each
+    /// node joins the aggregate of the leader's node at its position (level 0: the user data
+    /// "LeaderNodes<k>", follower_node_maps), so that both fields coarsen onto one coarse mesh.
+    /// The factory also provides the DOF <-> node translation ("UnAmalgamationInfo") and the
+    /// coarse mapping, moved to the next level by "LeaderMapping<k>".
+    void add_follower_aggregation(List& f, std::size_t k, std::size_t leader, int dofs_per_node)
+    {
+      const std::string s          = std::to_string(k);
+      List&             aggregates = factory(f, "Aggregates" + s, "NodeInterfaceAggregationFactory");
+      aggregates.set("A", "A" + s);
+      aggregates.set("Aggregates", "Aggregates" + std::to_string(leader));
+      aggregates.set("number of DOFs per dual node", dofs_per_node);
+      aggregates.set("level 0 mapping", leader_map_name(k));
+      aggregates.set("leave out Dirichlet nodes", true);
+      // its coarse levels' mapping: "DualNodeID2PrimalNodeID" of the group "Field<k>" (defined
+      // after this entry, which it reads)
+      factory(f, "LeaderMapping" + s, "InterfaceMappingTransferFactory")
+          .set("CoarseDualNodeID2PrimalNodeID", "Aggregates" + s);
+    }
+
+    /// Aggregation, tentative and (smoothed) prolongator and coarse nullspace of block k,
+    /// collected in the group "Field<k>"; `leader`: the block whose aggregates block k copies.
+    void add_field_transfer(List& f, std::size_t k, const List& p, bool smoothed,
+                            std::optional<std::size_t> leader, int dofs_per_node)
+    {
+      const std::string s = std::to_string(k);
+      List&             A = factory(f, "A" + s, "SubBlockAFactory");
+      A.set("block row", static_cast<int>(k));
+      A.set("block col", static_cast<int>(k));
+      // no striding here: SubBlockAFactory takes it from the block's strided map on every level
+      // (DOFs per node on level 0, the nullspace dimension below).
+      if (leader)
+        add_follower_aggregation(f, k, *leader, dofs_per_node);
+      else
+        add_own_aggregation(f, k, p);
+      // the factory of the DOF <-> node translation
+      const std::string amalgamation = (leader ? "Aggregates" : "Amalgamation") + s;
       // Coarse DOF ids: block k's follow block k-1's (Xpetra numbering on every level).
       List& coarse_map = factory(f, "CoarseMap" + s, k == 0 ? "CoarseMapFactory" : "BlockedCoarseMapFactory");
       coarse_map.set("Aggregates", "Aggregates" + s);
@@ -91,7 +165,7 @@ namespace multigrid
       ptent.set("A", "A" + s);
       ptent.set("Aggregates", "Aggregates" + s);
       ptent.set("CoarseMap", "CoarseMap" + s);
-      ptent.set("UnAmalgamationInfo", "Amalgamation" + s);
+      ptent.set("UnAmalgamationInfo", amalgamation);
       // Level 0: the user's "Nullspace<k+1>"; below: the coarse nullspace Ptent computed.
       const std::string user = "Nullspace" + std::to_string(k + 1);
       List&             ns   = factory(f, "Nullspace" + s, "NullspaceFactory");
@@ -111,7 +185,9 @@ namespace multigrid
       field.set("Aggregates", "Aggregates" + s);
       field.set("Nullspace", "Nullspace" + s);
       field.set("CoarseMap", "CoarseMap" + s);
-      field.set("UnAmalgamationInfo", "Amalgamation" + s);
+      field.set("UnAmalgamationInfo", amalgamation);
+      if (leader)
+        field.set("DualNodeID2PrimalNodeID", "LeaderMapping" + s);
     }
 
     /// The level smoother's factory: the project's block Gauss-Seidel (block_gauss_seidel_smoother.h)
@@ -172,6 +248,25 @@ namespace multigrid
           throw InputError("preset '" + preset.name + "': the prolongator of block '" + system.block(k).name +
                            "' is '" + prolong + "', expected smoothed or tentative");
       }
+    for (std::size_t k = 0; k < system.n_blocks(); ++k)
+      if (const auto leader = leader_of(p, system, k, preset.name))
+        {
+          const auto& b = system.block(k);
+          for (const auto* block : {&b, &system.block(*leader)})
+            if (block->coordinates.is_null())
+              throw InputError("preset '" + preset.name + "': block '" + b.name +
+                               "' takes the aggregates of '" + system.block(*leader).name +
+                               "' at the same node positions, and block '" + block->name +
+                               "' has no coordinates");
+          // The copied aggregates keep DOFs per node on every level; the coarse levels have one
+          // DOF per near-nullspace vector.
+          const auto modes = system.nullspace_or_translations(k)->getNumVectors();
+          if (modes != static_cast<std::size_t>(b.dofs_per_node))
+            throw InputError("preset '" + preset.name + "': block '" + b.name + "' takes another block's " +
+                             "aggregates, which needs as many near-nullspace vectors (" +
+                             std::to_string(modes) + ") as DOFs per node (" +
+                             std::to_string(b.dofs_per_node) + ")");
+        }
     if (min_agg < 1 || max_size < 1 || max_level < 1)
       throw InputError("preset '" + preset.name +
                        "': expected 'aggregation: min agg size', 'coarse: max size' and 'max levels' >= 1");
@@ -200,7 +295,8 @@ namespace multigrid
 
     // 1.-2. per field: aggregates, Ptent (nullspace), P, coarse nullspace.
     for (std::size_t k = 0; k < n; ++k)
-      add_field_transfer(f, k, p, prolongator_of(p, system.block(k).name) == "smoothed");
+      add_field_transfer(f, k, p, prolongator_of(p, system.block(k).name) == "smoothed",
+                         leader_of(p, system, k, preset.name), system.block(k).dofs_per_node);
     // 3. block-diagonal P, R = P^T, Galerkin product of the whole n x n operator.
     name_block_groups(factory(f, "BlockedP", "BlockedPFactory"), "Field", n);
     factory(f, "BlockedR", "GenericRFactory").set("P", "BlockedP");
@@ -229,6 +325,70 @@ namespace multigrid
     all.set("R", std::string("BlockedR"));
     all.set("A", std::string("BlockedRAP"));
     return muelu;
+  }
+
+  LeaderNodeMaps follower_node_maps(const Preset& preset, const BlockSystem& system,
+                                    std::vector<std::string>& notes)
+  {
+    LeaderNodeMaps maps;
+    for (std::size_t k = 0; k < system.n_blocks(); ++k)
+      if (const auto leader = leader_of(preset.parameters, system, k, preset.name))
+        {
+          // this rank's node positions, node-major
+          auto positions = [](const BlockInfo& b) {
+            const auto&         xyz = *b.coordinates;
+            const std::size_t   dim = xyz.getNumVectors(), n = xyz.getLocalLength();
+            std::vector<double> x(n * dim);
+            for (std::size_t c = 0; c < dim; ++c)
+              {
+                const auto column = xyz.getData(c);
+                for (std::size_t i = 0; i < n; ++i)
+                  x[i * dim + c] = column[i];
+              }
+            return x;
+          };
+          const auto& follower = system.block(k);
+          const auto& lead     = system.block(*leader);
+          const int   dim      = static_cast<int>(follower.coordinates->getNumVectors());
+          if (static_cast<int>(lead.coordinates->getNumVectors()) != dim)
+            throw InputError("preset '" + preset.name + "': blocks '" + follower.name + "' and '" +
+                             lead.name + "' have coordinates of different dimensions");
+          const auto leader_xyz = positions(lead);
+          // positions equal to 1e-9 of the leader's extent on this rank
+          double extent = 0;
+          for (int c = 0; c < dim; ++c)
+            {
+              double lo = 0, hi = 0;
+              for (std::size_t i = c; i < leader_xyz.size(); i += dim)
+                {
+                  lo = i == static_cast<std::size_t>(c) ? leader_xyz[i] : std::min(lo, leader_xyz[i]);
+                  hi = i == static_cast<std::size_t>(c) ? leader_xyz[i] : std::max(hi, leader_xyz[i]);
+                }
+              extent = std::max(extent, hi - lo);
+            }
+          const auto match =
+              same_positions(positions(follower), leader_xyz, dim, extent > 0 ? 1e-9 * extent : 1e-12);
+          auto& map             = maps[leader_map_name(k)];
+          GO    local_unmatched = 0;
+          for (std::size_t i = 0; i < match.size(); ++i)
+            {
+              map[static_cast<LO>(i)] = match[i] < 0 ? no_primal_node : static_cast<LO>(match[i]);
+              local_unmatched += match[i] < 0;
+            }
+          GO unmatched = 0;
+          Teuchos::reduceAll(*system.comm(), Teuchos::REDUCE_SUM, local_unmatched,
+                             Teuchos::outArg(unmatched));
+          const GO nodes = follower.global_size / follower.dofs_per_node;
+          if (unmatched == nodes)
+            throw InputError("preset '" + preset.name + "': block '" + follower.name +
+                             "' takes the aggregates of '" + lead.name +
+                             "' at the same node positions, and none of its nodes has a '" + lead.name +
+                             "' node at its position on its rank");
+          notes.push_back("block '" + follower.name + "' takes the aggregates of '" + lead.name +
+                          "': " + std::to_string(nodes - unmatched) + " of " + std::to_string(nodes) +
+                          " nodes matched" + (unmatched > 0 ? " (the others: one-node aggregates)" : ""));
+        }
+    return maps;
   }
 
   double check_level_smoother(Hierarchy& H, const BlockSystem& system, const Preset& preset)

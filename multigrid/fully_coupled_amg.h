@@ -27,7 +27,11 @@
 // "block smoothers" with one sublist per block name or "default": "type" (an Ifpack2 type of
 // MueLu's TrilinosSmoother: CHEBYSHEV, RILUK, RELAXATION, ...; ILU(0) or SGS for the project's
 // (ilu0_smoother.h, gauss_seidel_smoother.h); or SuperLU for an exact block solve) and the sublist
-// "ParameterList" (that smoother's parameters).
+// "ParameterList" (that smoother's parameters); and the optional sublist "block aggregates",
+// FOLLOWER = LEADER (block names, the leader before the follower; "own": the block aggregates on
+// its own diagonal block, the default): the follower's nodes join the
+// aggregates of the leader's nodes at the same positions (node_interface_aggregation.h), so both
+// fields coarsen onto one coarse mesh - the FSI's ALE field lives on the fluid mesh.
 #pragma once
 
 #include "block_system.h"
@@ -36,7 +40,9 @@
 
 #include <Teuchos_ParameterList.hpp>
 
+#include <map>
 #include <string>
+#include <vector>
 
 namespace multigrid
 {
@@ -46,6 +52,17 @@ namespace multigrid
 
   /// MueLu's factory list ("Factories" and "Hierarchy") of the preset for this system's blocks.
   Teuchos::ParameterList fully_coupled_muelu_list(const Preset& preset, const BlockSystem& system);
+
+  /// Level-0 user data of the blocks that copy another block's aggregates (preset sublist
+  /// "block aggregates"): name -> (local follower node -> local leader node at the same position,
+  /// or no_primal_node).
+  using LeaderNodeMaps = std::map<std::string, std::map<LO, LO>>;
+
+  /// The node maps of every block that follows another block's aggregates, matched by node
+  /// positions on each rank (nodes without a partner on their rank become one-node aggregates);
+  /// a line per such block goes to `notes`. Throws InputError when no node of a block matches.
+  LeaderNodeMaps follower_node_maps(const Preset& preset, const BlockSystem& system,
+                                    std::vector<std::string>& notes);
 
   /// The level smoother's residual growth on the fine level: ||A x_5|| / ||A x_0|| after five
   /// applications to A x = 0 from a random x_0 (< 1: it contracts). Throws InputError when it

@@ -11,7 +11,9 @@
 //   NodeInterfaceAggregationFactory
 //                            multiplier aggregates copied from the slave-side primal aggregates
 //                            (node-based), with an amalgamation that is consistent for a dual
-//                            block numbered after the primal one (MueLu 13.2's is not).
+//                            block numbered after the primal one (MueLu 13.2's is not); also a
+//                            field's aggregates copied from another field on the same mesh
+//                            (node_interface_aggregation.h).
 //   AggregateRecordFactory   keeps a field's aggregates for export (aggregate_export.h).
 //   SuperLUDirectSolver      coarse-level direct solver through the project's SuperLU adaptor,
 //                            for single and blocked (merged on the fly) operators.

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace multigrid
 {
@@ -49,5 +51,55 @@ namespace multigrid
           }
       }
     return keys;
+  }
+
+  std::vector<long> same_positions(const std::vector<double>& follower, const std::vector<double>& leader,
+                                   int dim, double tolerance)
+  {
+    // Positions on a grid of spacing `tolerance`: equal positions give equal cells; two positions
+    // closer than the tolerance may straddle a cell boundary, so the neighbouring cells (3^dim
+    // of them) are searched as well.
+    using Cell = std::array<long long, 3>;
+    auto cell  = [&](const std::vector<double>& x, std::size_t i) {
+      Cell c{};
+      for (int d = 0; d < dim; ++d)
+        c[d] = std::llround(x[i * dim + d] / tolerance);
+      return c;
+    };
+    const std::size_t        n_leader = leader.size() / dim;
+    std::vector<std::size_t> order(n_leader);
+    std::vector<Cell>        cells(n_leader);
+    for (std::size_t i = 0; i < n_leader; ++i)
+      cells[i] = cell(leader, i);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return cells[a] < cells[b]; });
+
+    auto close = [&](std::size_t f, std::size_t l) {
+      for (int d = 0; d < dim; ++d)
+        if (std::abs(follower[f * dim + d] - leader[l * dim + d]) > tolerance)
+          return false;
+      return true;
+    };
+    const int         neighbours = dim == 1 ? 3 : dim == 2 ? 9 : 27;
+    std::vector<long> match(follower.size() / dim, -1);
+    for (std::size_t f = 0; f < match.size(); ++f)
+      {
+        const Cell centre = cell(follower, f);
+        for (int n = 0; n < neighbours && match[f] < 0; ++n)
+          {
+            Cell c = centre;
+            for (int d = 0, m = n; d < dim; ++d, m /= 3)
+              c[d] += m % 3 - 1;
+            auto it = std::lower_bound(order.begin(), order.end(), c,
+                                       [&](std::size_t l, const Cell& key) { return cells[l] < key; });
+            for (; it != order.end() && cells[*it] == c; ++it)
+              if (close(f, *it))
+                {
+                  match[f] = static_cast<long>(*it);
+                  break;
+                }
+          }
+      }
+    return match;
   }
 } // namespace multigrid

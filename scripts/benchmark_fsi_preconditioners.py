@@ -22,6 +22,8 @@ Presets (multigrid/presets, with overrides):
   fully-coupled-sa-amg(bgs)      as shipped (max coarse size 6500: a direct solve below that)
   fully-coupled-sa-amg(bgs)/500  the same with max coarse size 500 (multilevel at every size)
   fully-coupled-pa-amg(bgs)      the same hierarchy with unsmoothed (tentative) transfers
+  fully-coupled-{sa,pa}-amg(bgs)/ale=fluid
+                                 the ALE field takes the fluid's aggregates (the same coarse mesh)
   bgs(amg), block-jacobi(amg), direct(superlu)
 
   scripts/benchmark_fsi_preconditioners.py --build build [--case channel|tube|turek-hron] [--sizes 1 2 4]
@@ -42,6 +44,8 @@ PRESETS = {
     "fully-coupled-sa-amg(bgs)": ("fully-coupled-sa-amg(bgs)", []),
     "fully-coupled-sa-amg(bgs)/500": ("fully-coupled-sa-amg(bgs)", ["coarse: max size=500"]),
     "fully-coupled-pa-amg(bgs)": ("fully-coupled-pa-amg(bgs)", []),
+    "fully-coupled-sa-amg(bgs)/ale=fluid": ("fully-coupled-sa-amg(bgs)", ["block aggregates/ale=fluid"]),
+    "fully-coupled-pa-amg(bgs)/ale=fluid": ("fully-coupled-pa-amg(bgs)", ["block aggregates/ale=fluid"]),
     "bgs(amg)": ("bgs(amg)", []),
     "block-jacobi(amg)": ("block-jacobi(amg)", []),
     "direct(superlu)": ("direct(superlu)", []),

@@ -445,3 +445,37 @@ TEST(BlockSystemIO, MortonKeysCutEveryFieldAcrossTheLongestDirection)
   EXPECT_LT(keys[2][2], keys[2][0]);
   EXPECT_TRUE(keys[3].empty());
 }
+
+TEST(SpatialOrder, SamePositionsMatchesEveryNodeOfAShuffledGridAndNoOther)
+{
+  // The follower: a 7 x 5 grid in shuffled order, moved by less than the tolerance (also across
+  // the rounding cells' boundaries) and with two nodes that have no partner; the leader: the
+  // 7 x 6 grid in order.
+  const double        h = 0.1, tolerance = 1e-9;
+  std::vector<double> leader, follower;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 7; ++i)
+      leader.insert(leader.end(), {i * h, j * h});
+  std::vector<int> order(35);
+  std::iota(order.begin(), order.end(), 0);
+  std::reverse(order.begin() + 3, order.end());
+  std::rotate(order.begin(), order.begin() + 11, order.end());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    {
+      const int    n     = order[k];
+      const double shift = (k % 3 == 0 ? 0.4 : k % 3 == 1 ? -0.5 : 0.0) * tolerance;
+      follower.insert(follower.end(), {(n % 7) * h + shift, (n / 7) * h - shift});
+    }
+  follower.insert(follower.end(), {0.05, 0.05, 0.0, 0.7});
+
+  const auto match = same_positions(follower, leader, 2, tolerance);
+  ASSERT_EQ(match.size(), 37u);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    EXPECT_EQ(match[k], order[k]) << "follower node " << k;
+  EXPECT_EQ(match[35], -1);
+  EXPECT_EQ(match[36], -1);
+  // 3D, and a position farther than the tolerance is no match
+  const auto far = same_positions({0.0, 0.0, 2.5e-9}, {0.0, 0.0, 0.0}, 3, tolerance);
+  EXPECT_EQ(far, std::vector<long>{-1});
+  EXPECT_EQ(same_positions({0.0, 0.0, 0.9e-9}, {0.0, 0.0, 0.0}, 3, tolerance), std::vector<long>{0});
+}

@@ -21,6 +21,7 @@
 #include "ilu0_smoother.h"
 #include "krylov_solver.h"
 #include "presets.h"
+#include "spatial_order.h"
 
 #include <Ifpack2_Factory.hpp>
 #include <MueLu_Hierarchy.hpp>
@@ -558,4 +559,89 @@ TEST(FullyCoupledAmg, BlockWithoutNullspaceFallsBackToTranslations)
   SolveOptions        options;
   options.tolerance = 1e-6;
   EXPECT_TRUE(solve(system, M, *x, options).converged);
+}
+
+namespace
+{
+  /// Whether the ALE block's aggregates are the fluid's on every coarse level: two ALE nodes
+  /// share a level-l aggregate exactly when their fluid nodes (at the same positions) do; ALE
+  /// nodes in no aggregate (its Dirichlet nodes) are left aside. Counts the pairs of aggregates
+  /// (ALE, fluid) that break the one-to-one correspondence, over all levels and ranks.
+  long long ale_aggregates_differing_from_the_fluids(const BlockSystem& system, const BlockPreconditioner& M)
+  {
+    auto positions = [](const BlockInfo& b) {
+      std::vector<double> x;
+      for (std::size_t i = 0; i < b.coordinates->getLocalLength(); ++i)
+        for (std::size_t c = 0; c < b.coordinates->getNumVectors(); ++c)
+          x.push_back(b.coordinates->getData(c)[i]);
+      return x;
+    };
+    const auto  fluid_node = same_positions(positions(system.block(2)), positions(system.block(1)), 2, 1e-9);
+    const auto& fluid      = M.aggregates().at(1).levels;
+    const auto& ale        = M.aggregates().at(2).levels;
+    long long   differing  = 0;
+    for (std::size_t l = 1; l < ale.size(); ++l)
+      {
+        std::map<GO, GO> ale_to_fluid, fluid_to_ale;
+        for (std::size_t i = 0; i < fluid_node.size(); ++i)
+          if (ale[l][i] >= 0 && fluid_node[i] >= 0)
+            {
+              const GO a = ale[l][i], f = fluid[l][fluid_node[i]];
+              differing += ale_to_fluid.emplace(a, f).first->second != f;
+              differing += fluid_to_ale.emplace(f, a).first->second != a;
+            }
+      }
+    Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, differing, Teuchos::outArg(differing));
+    return differing;
+  }
+} // namespace
+
+TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
+{
+  // coupled-fields-2d: the ALE field lives on the fluid's grid. With "block aggregates/ale=fluid"
+  // both fields coarsen onto one coarse grid (a 4-level hierarchy: 3 coarse levels checked); on
+  // their own they do not, which shows that the check can fail.
+  const auto   system = coupled_fields_2d(comm(), {3, false});
+  SetupOptions keep;
+  keep.keep_aggregates = true;
+  for (const std::string ale : {"fluid", "own"})
+    {
+      Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
+      apply_overrides(preset, {"coarse: max size=200", "block aggregates/ale=" + ale});
+      BlockPreconditioner M(system, preset, keep);
+      ASSERT_EQ(M.info().levels.size(), 4u) << ale;
+      const long long differing = ale_aggregates_differing_from_the_fluids(system, M);
+      if (ale == "fluid")
+        {
+          EXPECT_EQ(differing, 0);
+          // the ALE grid's fixed column x = 2 (identity rows) is in no aggregate: per coarse node
+          // of the fluid (3 DOFs) at most one of the ALE (2 DOFs)
+          for (std::size_t l = 1; l < 4; ++l)
+            EXPECT_LE(M.info().levels[l].block_rows[2] * 3, M.info().levels[l].block_rows[1] * 2) << l;
+          const auto note = std::find_if(M.info().notes.begin(), M.info().notes.end(), [](const auto& n) {
+            return n.find("block 'ale' takes the aggregates of 'fluid'") != std::string::npos;
+          });
+          ASSERT_NE(note, M.info().notes.end());
+          EXPECT_NE(note->find("4225 of 4225 nodes matched"), std::string::npos) << *note;
+          auto         x = MVF::Build(system.full_map(), 1, true);
+          SolveOptions options;
+          options.tolerance = 1e-6;
+          const auto report = solve(system, M, *x, options);
+          EXPECT_TRUE(report.converged) << report.failure;
+          EXPECT_LT(report.iterations, 15);
+        }
+      else
+        EXPECT_GT(differing, 0);
+    }
+  // a leader that is no block before the follower, and one without positions
+  Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
+  apply_overrides(preset, {"coarse: max size=200", "block aggregates/ale=water"});
+  std::string e = error_of([&] { BlockPreconditioner M(system, preset); });
+  EXPECT_NE(e.find("'block aggregates/ale' = 'water' names no block before 'ale'"), std::string::npos) << e;
+  auto without                 = coupled_fields_2d(comm(), {3, false});
+  without.block(1).coordinates = Teuchos::null;
+  apply_overrides(preset, {"block aggregates/ale=fluid"});
+  e = error_of([&] { BlockPreconditioner M(without, preset); });
+  EXPECT_NE(e.find("block 'fluid' has no coordinates"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
