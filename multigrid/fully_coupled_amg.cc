@@ -101,6 +101,38 @@ namespace multigrid
                        "' names no block before '" + name + "' in this system");
     }
 
+    /// This rank's node positions of a block, node-major.
+    std::vector<double> local_positions(const BlockInfo& b)
+    {
+      const auto&         xyz = *b.coordinates;
+      const std::size_t   dim = xyz.getNumVectors(), n = xyz.getLocalLength();
+      std::vector<double> x(n * dim);
+      for (std::size_t c = 0; c < dim; ++c)
+        {
+          const auto column = xyz.getData(c);
+          for (std::size_t i = 0; i < n; ++i)
+            x[i * dim + c] = column[i];
+        }
+      return x;
+    }
+
+    /// The largest extent over the directions of node-major positions (0 for none).
+    double largest_extent(const std::vector<double>& xyz, int dim)
+    {
+      double extent = 0;
+      for (int c = 0; c < dim && xyz.size() >= static_cast<std::size_t>(dim); ++c)
+        {
+          double lo = xyz[c], hi = xyz[c];
+          for (std::size_t i = c; i < xyz.size(); i += dim)
+            {
+              lo = std::min(lo, xyz[i]);
+              hi = std::max(hi, xyz[i]);
+            }
+          extent = std::max(extent, hi - lo);
+        }
+      return extent;
+    }
+
     /// Block k's aggregates from its own diagonal block: MueLu's uncoupled aggregation of the
     /// node graph (striding from the block's map), "Amalgamation<k>" the DOF <-> node translation.
     void add_own_aggregation(List& f, std::size_t k, const List& p)
@@ -334,40 +366,17 @@ namespace multigrid
     for (std::size_t k = 0; k < system.n_blocks(); ++k)
       if (const auto leader = leader_of(preset.parameters, system, k, preset.name))
         {
-          // this rank's node positions, node-major
-          auto positions = [](const BlockInfo& b) {
-            const auto&         xyz = *b.coordinates;
-            const std::size_t   dim = xyz.getNumVectors(), n = xyz.getLocalLength();
-            std::vector<double> x(n * dim);
-            for (std::size_t c = 0; c < dim; ++c)
-              {
-                const auto column = xyz.getData(c);
-                for (std::size_t i = 0; i < n; ++i)
-                  x[i * dim + c] = column[i];
-              }
-            return x;
-          };
           const auto& follower = system.block(k);
           const auto& lead     = system.block(*leader);
           const int   dim      = static_cast<int>(follower.coordinates->getNumVectors());
           if (static_cast<int>(lead.coordinates->getNumVectors()) != dim)
             throw InputError("preset '" + preset.name + "': blocks '" + follower.name + "' and '" +
                              lead.name + "' have coordinates of different dimensions");
-          const auto leader_xyz = positions(lead);
           // positions equal to 1e-9 of the leader's extent on this rank
-          double extent = 0;
-          for (int c = 0; c < dim; ++c)
-            {
-              double lo = 0, hi = 0;
-              for (std::size_t i = c; i < leader_xyz.size(); i += dim)
-                {
-                  lo = i == static_cast<std::size_t>(c) ? leader_xyz[i] : std::min(lo, leader_xyz[i]);
-                  hi = i == static_cast<std::size_t>(c) ? leader_xyz[i] : std::max(hi, leader_xyz[i]);
-                }
-              extent = std::max(extent, hi - lo);
-            }
-          const auto match =
-              same_positions(positions(follower), leader_xyz, dim, extent > 0 ? 1e-9 * extent : 1e-12);
+          const auto   leader_xyz = local_positions(lead);
+          const double extent     = largest_extent(leader_xyz, dim);
+          const auto   match =
+              same_positions(local_positions(follower), leader_xyz, dim, extent > 0 ? 1e-9 * extent : 1e-12);
           auto& map             = maps[leader_map_name(k)];
           GO    local_unmatched = 0;
           for (std::size_t i = 0; i < match.size(); ++i)
