@@ -5,7 +5,7 @@
 //    field's nullspace exactly;
 //  - one block Gauss-Seidel sweep with exact block solves is exact on a block-lower-triangular
 //    system (block Jacobi is not);
-//  - the preset's Chebyshev(3) and ILU(0) sub-smoothers reduce the error on their blocks;
+//  - the preset's Chebyshev and ILU(0) sub-smoothers reduce the error on their blocks;
 //  - the project's ILU(0) computes Ifpack2's RILUK(0) to round-off (the model's and the FSI
 //    channel's fluid blocks), is exact where elimination fills nothing, names a zero pivot, and
 //    takes the placeholder's place in hierarchies from easy-style lists (also after a refresh);
