@@ -290,6 +290,17 @@ namespace multigrid
                                "' takes the aggregates of '" + system.block(*leader).name +
                                "' at the same node positions, and block '" + block->name +
                                "' has no coordinates");
+          // The coarse-level rebalancing (block_rebalancing.h) moves the node mapping of the
+          // contact lists' two blocks only.
+          const bool rebalanced = p.isSublist("repartition") &&
+                                  p.sublist("repartition").isType<bool>("enable") &&
+                                  p.sublist("repartition").get<bool>("enable");
+          if (rebalanced)
+            throw InputError("preset '" + preset.name + "': block '" + b.name +
+                             "' takes the aggregates of '" + system.block(*leader).name +
+                             "', which the coarse-level rebalancing does not support yet; set "
+                             "'repartition/enable' to false or 'block aggregates/" +
+                             b.name + "' to own");
           // The copied aggregates keep DOFs per node on every level; the coarse levels have one
           // DOF per near-nullspace vector.
           const auto modes = system.nullspace_or_translations(k)->getNumVectors();

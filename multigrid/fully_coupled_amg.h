@@ -29,9 +29,10 @@
 // (ilu0_smoother.h, gauss_seidel_smoother.h); or SuperLU for an exact block solve) and the sublist
 // "ParameterList" (that smoother's parameters); and the optional sublist "block aggregates",
 // FOLLOWER = LEADER (block names, the leader before the follower; "own": the block aggregates on
-// its own diagonal block, the default): the follower's nodes join the
-// aggregates of the leader's nodes at the same positions (node_interface_aggregation.h), so both
-// fields coarsen onto one coarse mesh - the FSI's ALE field lives on the fluid mesh.
+// its own diagonal block, the default): the follower's nodes join the aggregates of the leader's
+// nodes at the same positions (node_interface_aggregation.h), so both fields coarsen onto one
+// coarse mesh - the FSI's ALE field lives on the fluid mesh. Not with "repartition/enable" (the
+// rebalancing moves the node mapping of the contact lists' two blocks only).
 #pragma once
 
 #include "block_system.h"

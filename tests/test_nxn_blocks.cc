@@ -644,4 +644,8 @@ TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
   e = error_of([&] { BlockPreconditioner M(without, preset); });
   EXPECT_NE(e.find("block 'fluid' has no coordinates"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  // the coarse-level rebalancing does not move the follower's node mapping
+  apply_overrides(preset, {"repartition/enable=true"});
+  e = error_of([&] { BlockPreconditioner M(system, preset); });
+  EXPECT_NE(e.find("which the coarse-level rebalancing does not support yet"), std::string::npos) << e;
 }
