@@ -290,6 +290,9 @@ namespace multigrid
                                "' takes the aggregates of '" + system.block(*leader).name +
                                "' at the same node positions, and block '" + block->name +
                                "' has no coordinates");
+          if (b.coordinates->getNumVectors() != system.block(*leader).coordinates->getNumVectors())
+            throw InputError("preset '" + preset.name + "': blocks '" + b.name + "' and '" +
+                             system.block(*leader).name + "' have coordinates of different dimensions");
           // The coarse-level rebalancing (block_rebalancing.h) moves the node mapping of the
           // contact lists' two blocks only.
           const bool rebalanced = p.isSublist("repartition") &&
@@ -380,9 +383,6 @@ namespace multigrid
           const auto& follower = system.block(k);
           const auto& lead     = system.block(*leader);
           const int   dim      = static_cast<int>(follower.coordinates->getNumVectors());
-          if (static_cast<int>(lead.coordinates->getNumVectors()) != dim)
-            throw InputError("preset '" + preset.name + "': blocks '" + follower.name + "' and '" +
-                             lead.name + "' have coordinates of different dimensions");
           // positions equal to 1e-9 of the leader's extent on this rank
           const auto   leader_xyz = local_positions(lead);
           const double extent     = largest_extent(leader_xyz, dim);

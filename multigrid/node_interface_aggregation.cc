@@ -5,10 +5,12 @@
 #include <MueLu_Aggregates.hpp>
 #include <MueLu_AmalgamationInfo.hpp>
 #include <MueLu_Monitor.hpp>
+#include <MueLu_Utilities.hpp>
 
 #include <Xpetra_BlockedCrsMatrix.hpp>
 #include <Xpetra_MapFactory.hpp>
 
+#include <algorithm>
 #include <string>
 
 namespace multigrid
@@ -197,24 +199,11 @@ namespace multigrid
     std::vector<bool> dirichlet(n_local, false);
     if (!GetParameterList().get<bool>("leave out Dirichlet nodes"))
       return dirichlet;
-    const auto rows    = A.getRowMap();
-    const auto columns = A.getColMap();
+    // the rows MueLu's own aggregation leaves out (CoalesceDropFactory: no off-diagonal entry)
+    const auto rows = MueLu::Utilities<SC, LO, GO, NO>::DetectDirichletRows(A);
     for (LO i = 0; i < n_local; ++i)
-      {
-        bool only_diagonal = true;
-        for (int k = 0; k < dpn && only_diagonal; ++k)
-          {
-            const LO                     row = i * dpn + k;
-            const GO                     gid = rows->getGlobalElement(row);
-            Teuchos::ArrayView<const LO> cols;
-            Teuchos::ArrayView<const SC> values;
-            A.getLocalRowView(row, cols, values);
-            for (std::size_t j = 0; j < static_cast<std::size_t>(cols.size()); ++j)
-              if (values[j] != 0.0 && columns->getGlobalElement(cols[j]) != gid)
-                only_diagonal = false;
-          }
-        dirichlet[i] = only_diagonal;
-      }
+      dirichlet[i] =
+          std::all_of(rows.begin() + i * dpn, rows.begin() + (i + 1) * dpn, [](bool r) { return r; });
     return dirichlet;
   }
 } // namespace multigrid
