@@ -3,6 +3,7 @@
 #include "aggregate_export.h"
 #include "block_gauss_seidel_smoother.h"
 #include "block_rebalancing.h"
+#include "coupled_prolongator.h"
 #include "gauss_seidel_smoother.h"
 #include "ilu0_smoother.h"
 #include "node_interface_aggregation.h"
@@ -413,6 +414,12 @@ namespace multigrid
       return Teuchos::rcp(new MueLu::SmootherFactory<double, int, long long, ::multigrid::NO>(
           Teuchos::rcp(new GaussSeidelSmoother(
               gauss_seidel_settings(list, "ParameterList", "factory GaussSeidelSmoother")))));
+    if (name == "CoupledSaPFactory")
+      return this->template Build2<CoupledSaPFactory>(list, factories, managers);
+    if (name == "BlockedTransposeFactory")
+      return this->template Build2<BlockedTransposeFactory>(list, factories, managers);
+    if (name == "BlockedGalerkinFactory")
+      return this->template Build2<BlockedGalerkinFactory>(list, factories, managers);
     if (name == "SpaiSimpleSmoother")
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (name == "BlockGaussSeidelSmoother")
