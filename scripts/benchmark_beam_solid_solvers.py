@@ -11,6 +11,10 @@ Presets and variants (a preset of multigrid/presets with overrides):
                           SIMPLE outside, SA-AMG on the SPAI Schur complement
   schur-muelu-simple      the same with MueLu's SIMPLE (diag(K_BB)^-1 in the final update)
   schur-diagonal          the same hierarchy with S = K_SS - K_SB diag(K_BB)^-1 K_BS
+  schur-chebyshev         the seeds' hierarchy with Chebyshev(3) instead of ILU(1) on S
+  schur-coupled           the seeds' preset on two levels with the prolongator smoothed across the
+                          blocks (template parameter PROLONGATOR=CoupledP): P_BS, P_SB nonzero
+  schur-coupled-chebyshev the same with Chebyshev(3) on S
   block-diagonal-sa-amg   the same hierarchy with block Jacobi smoothing (SGS per block)
   cheapsimple(sa-amg)     CheapSIMPLE with SA-AMG on the beam block, diagonal Schur approximation
   direct(superlu)         SuperLU on the whole system
@@ -21,7 +25,8 @@ below 18k DOFs a single direct solve).
                                           [--max-growth G]
 With --max-growth G, also exit 1 if a preset's average GMRES iterations per Newton step at the
 largest level exceed G times those at the smallest (ctest beam_solid.iterations_flat: levels 2 and 3
-of spai-simple(schur-sa-amg)).
+of spai-simple(schur-sa-amg); beam_solid.coupled_prolongator_flat: levels 2 and 4 of
+schur-coupled-chebyshev).
 Exit status 1 if schur-sa-amg(spai), spai-simple(schur-sa-amg) or direct(superlu) does not converge (ctest
 benchmark.beam_solid_solvers runs levels 1 2 3).
 """
@@ -34,11 +39,18 @@ import sys
 from json_output import write_json_atomically
 
 COARSE = "template parameters/COARSE_MAX_SIZE=500"
+# Two levels: on a third the dense coarse beam block makes the SPAI of its smoother expensive
+# (README, "The seeds' preset's growth").
+COUPLED = ["template parameters/MAX_LEVELS=2", "template parameters/PROLONGATOR=CoupledP"]
+CHEBYSHEV = ["template parameters/CORRECTOR=CorrectorChebyshev", "template parameters/CORRECTOR_DEGREE=3"]
 PRESETS = {
     "schur-sa-amg(spai)": ("schur-sa-amg(spai)", [COARSE]),
     "spai-simple(schur-sa-amg)": ("spai-simple(schur-sa-amg)", []),
     "schur-muelu-simple": ("schur-sa-amg(spai)", [COARSE, "template parameters/LEVEL_SMOOTHER=SIMPLE"]),
     "schur-diagonal": ("schur-sa-amg(spai)", [COARSE, "template parameters/SCHUR_AINV=BeamDiagonalInverse"]),
+    "schur-chebyshev": ("schur-sa-amg(spai)", [COARSE] + CHEBYSHEV),
+    "schur-coupled": ("schur-sa-amg(spai)", [COARSE] + COUPLED),
+    "schur-coupled-chebyshev": ("schur-sa-amg(spai)", [COARSE] + COUPLED + CHEBYSHEV),
     "block-diagonal-sa-amg": ("block-diagonal-sa-amg", [COARSE]),
     "cheapsimple(sa-amg)": ("cheapsimple(sa-amg)", ["primal solver/coarse: max size=500"]),
     "direct(superlu)": ("direct(superlu)", []),
