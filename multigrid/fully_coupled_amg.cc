@@ -222,6 +222,20 @@ namespace multigrid
         field.set("DualNodeID2PrimalNodeID", "LeaderMapping" + s);
     }
 
+    /// "prolongator: smoothing": false for "per field" (the default: each field's SA step with its
+    /// own diagonal block, P block-diagonal), true for "across fields" (one Jacobi step of the
+    /// whole operator on the tentative P, coupled_prolongator.h).
+    bool smoothing_across_fields(const List& p, const std::string& preset)
+    {
+      if (!p.isParameter("prolongator: smoothing"))
+        return false;
+      const auto value = p.get<std::string>("prolongator: smoothing");
+      if (value != "per field" && value != "across fields")
+        throw InputError("preset '" + preset + "': 'prolongator: smoothing' is '" + value +
+                         "', expected 'per field' or 'across fields'");
+      return value == "across fields";
+    }
+
     /// The level smoother's factory: the project's block Gauss-Seidel (block_gauss_seidel_smoother.h)
     /// or, for comparison, MueLu's BlockedGaussSeidelSmoother (the same iteration, with a residual
     /// of the whole system per block row and sub-smoothers that recompute their zero start).
@@ -340,14 +354,33 @@ namespace multigrid
     List&             f = muelu.sublist("Factories");
 
     // 1.-2. per field: aggregates, Ptent (nullspace), P, coarse nullspace.
+    const bool  across = smoothing_across_fields(p, preset.name);
+    std::string tentative_blocks;
     for (std::size_t k = 0; k < n; ++k)
-      add_field_transfer(f, k, p, prolongator_of(p, system.block(k).name) == "smoothed",
-                         leader_of(p, system, k, preset.name), system.block(k).dofs_per_node);
-    // 3. block-diagonal P, R = P^T, Galerkin product of the whole n x n operator.
+      {
+        const bool smoothed = prolongator_of(p, system.block(k).name) == "smoothed";
+        if (!smoothed)
+          tentative_blocks += std::to_string(k) + " ";
+        add_field_transfer(f, k, p, smoothed && !across, leader_of(p, system, k, preset.name),
+                           system.block(k).dofs_per_node);
+      }
+    // 3. block-diagonal P (or the tentative one smoothed across the fields), R = P^T, Galerkin
+    //    product of the whole n x n operator.
     name_block_groups(factory(f, "BlockedP", "BlockedPFactory"), "Field", n);
-    factory(f, "BlockedR", "GenericRFactory").set("P", "BlockedP");
-    List& rap = factory(f, "BlockedRAP", "BlockedRAPFactory");
-    rap.set("P", "BlockedP");
+    std::string prolongator = "BlockedP";
+    if (across)
+      {
+        prolongator   = "CoupledP";
+        List& coupled = factory(f, prolongator, "CoupledSaPFactory");
+        coupled.set("P", "BlockedP");
+        coupled.set("sa: damping factor", p.get<double>("sa: damping factor"));
+        coupled.set("tentative blocks", tentative_blocks);
+        factory(f, "BlockedR", "BlockedTransposeFactory").set("P", prolongator);
+      }
+    else
+      factory(f, "BlockedR", "GenericRFactory").set("P", prolongator);
+    List& rap = factory(f, "BlockedRAP", across ? "BlockedGalerkinFactory" : "BlockedRAPFactory");
+    rap.set("P", prolongator);
     rap.set("R", "BlockedR");
     // 4. block Gauss-Seidel with one sub-smoother per field.
     for (std::size_t k = 0; k < n; ++k)
@@ -367,7 +400,7 @@ namespace multigrid
     all.set("startLevel", 0);
     all.set("Smoother", std::string("BlockGaussSeidel"));
     all.set("CoarseSolver", std::string("CoarseSuperLU"));
-    all.set("P", std::string("BlockedP"));
+    all.set("P", prolongator);
     all.set("R", std::string("BlockedR"));
     all.set("A", std::string("BlockedRAP"));
     return muelu;

@@ -491,6 +491,27 @@ TEST(FullyCoupledAmg, FourLevelsOnTheModelKeepTheTrueResidual)
   EXPECT_LT(report.iterations, 15);
 }
 
+TEST(FullyCoupledAmg, SmoothingAcrossFieldsSolvesTheModelAndTheChannelOnAllRanksAndOneAlike)
+{
+  // "prolongator: smoothing = across fields" (coupled_prolongator.h): P no longer block-diagonal,
+  // the Galerkin products by the project's BlockedGalerkinFactory (MueLu's fails on three blocks).
+  const std::vector<std::string> model = {"coarse: max size=500", "prolongator: smoothing=across fields"};
+  const auto                     its   = iterations_on_all_and_one_rank(
+      [](RCP<const Comm> c) {
+        return coupled_fields_2d(c, {3, false});
+      },
+      "fully-coupled-sa-amg(bgs)", model);
+  expect_iterations_within_ten_percent(its, "across fields on coupled-fields-2d:3");
+  EXPECT_LT(its.first, 15);
+  const auto systems = fsi_channel_systems();
+  ASSERT_FALSE(systems.empty());
+  const auto channel = iterations_on_all_and_one_rank(
+      [&](RCP<const Comm> c) { return read_block_system(systems.front(), c); }, "fully-coupled-sa-amg(bgs)",
+      {"coarse: max size=300", "prolongator: smoothing=across fields"});
+  expect_iterations_within_ten_percent(channel,
+                                       "across fields on " + fs::path(systems.front()).filename().string());
+}
+
 TEST(FullyCoupledAmg, ProjectBlockGaussSeidelIsMueLusIteration)
 {
   // The project's level smoother (block_gauss_seidel_smoother.h) against MueLu's
