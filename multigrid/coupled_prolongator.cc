@@ -63,7 +63,7 @@ namespace multigrid
       for (std::size_t i = 0; i < n; ++i)
         {
           q[i] = Xpetra::VectorFactory<SC, LO, GO, NO>::Build(A.getMatrix(i, i)->getDomainMap());
-          q[i]->setSeed(100 + i); // the same start on every run and rank count of a rank
+          q[i]->setSeed(100 + i); // a fixed start: the same omega in every run on the same ranks
           q[i]->randomize();
           if (left_out.count(i))
             q[i]->putScalar(0.0);

@@ -9,9 +9,10 @@
 // coupling: the beam follows the solid's motion), a coarse solid function then moves the solid
 // alone and pulls against the tied beam, and the coarse space misses the coupled system's
 // low-energy modes; the coupled step gives every coarse function of one field the response of the
-// fields tied to it (P_BS ~ the beam following a coarse solid motion). The price: P is no longer
-// block-diagonal, and the coarse operators of the Galerkin product R A P (BlockedRAPFactory
-// multiplies any blocked P) couple the fields through the off-diagonal blocks of P as well.
+// fields tied to it (on the beam/solid systems both directions are needed: P_BS, the beam
+// following a coarse solid motion, or P_SB alone leaves the iteration counts as they were). The
+// price: P is no longer block-diagonal, and the coarse operators R A P are denser (MueLu's
+// BlockedRAPFactory multiplies such a P for two blocks; BlockedGalerkinFactory below for more).
 //
 // XML (a project factory, registered by name in ProjectFactoryFactory):
 //   <ParameterList name="CoupledP">

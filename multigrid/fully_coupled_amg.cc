@@ -222,6 +222,13 @@ namespace multigrid
         field.set("DualNodeID2PrimalNodeID", "LeaderMapping" + s);
     }
 
+    /// "repartition/enable" is set and true.
+    bool rebalanced(const List& p)
+    {
+      return p.isSublist("repartition") && p.sublist("repartition").isType<bool>("enable") &&
+             p.sublist("repartition").get<bool>("enable");
+    }
+
     /// "prolongator: smoothing": false for "per field" (the default: each field's SA step with its
     /// own diagonal block, P block-diagonal), true for "across fields" (one Jacobi step of the
     /// whole operator on the tentative P, coupled_prolongator.h).
@@ -309,10 +316,7 @@ namespace multigrid
                              system.block(*leader).name + "' have coordinates of different dimensions");
           // The coarse-level rebalancing (block_rebalancing.h) moves the node mapping of the
           // contact lists' two blocks only.
-          const bool rebalanced = p.isSublist("repartition") &&
-                                  p.sublist("repartition").isType<bool>("enable") &&
-                                  p.sublist("repartition").get<bool>("enable");
-          if (rebalanced)
+          if (rebalanced(p))
             throw InputError("preset '" + preset.name + "': block '" + b.name +
                              "' takes the aggregates of '" + system.block(*leader).name +
                              "', which the coarse-level rebalancing does not support yet; set "
@@ -327,6 +331,13 @@ namespace multigrid
                              std::to_string(modes) + ") as DOFs per node (" +
                              std::to_string(b.dofs_per_node) + ")");
         }
+    // The rebalancing moves block-diagonal prolongators (RebalanceBlockInterpolationFactory
+    // rebalances each block group's P).
+    if (smoothing_across_fields(p, preset.name) && rebalanced(p))
+      throw InputError("preset '" + preset.name +
+                       "': 'prolongator: smoothing = across fields' makes P non-block-diagonal, which the "
+                       "coarse-level rebalancing does not support; set 'repartition/enable' to false or "
+                       "'prolongator: smoothing' to 'per field'");
     if (min_agg < 1 || max_size < 1 || max_level < 1)
       throw InputError("preset '" + preset.name +
                        "': expected 'aggregation: min agg size', 'coarse: max size' and 'max levels' >= 1");
