@@ -40,7 +40,7 @@ from json_output import write_json_atomically
 
 COARSE = "template parameters/COARSE_MAX_SIZE=500"
 # Two levels: on a third the dense coarse beam block makes the SPAI of its smoother expensive
-# (README, "The seeds' preset's growth").
+# (README, beam_solid, "Why the seeds' preset grows").
 COUPLED = ["template parameters/MAX_LEVELS=2", "template parameters/PROLONGATOR=CoupledP"]
 CHEBYSHEV = ["template parameters/CORRECTOR=CorrectorChebyshev", "template parameters/CORRECTOR_DEGREE=3"]
 PRESETS = {
