@@ -196,7 +196,7 @@ TEST(CoupledProlongator, IsTheUncutProblemsSmoothedAggregation)
   EXPECT_GT(norm(*step), 1e-3 * norm(*b.Ptx));
 }
 
-TEST(CoupledProlongator, TentativeRowsStayTentativeAndSetNoOmega)
+TEST(CoupledProlongator, TentativeRowsStayTentativeAndOthersKeepTheirCoupling)
 {
   const auto       c = cut_laplacian({8, 8});
   CoupledSmoothing settings;
