@@ -23,27 +23,35 @@ namespace multigrid
     using Vector    = Xpetra::Vector<SC, LO, GO, NO>;
     using Utilities = MueLu::Utilities<SC, LO, GO, NO>;
 
-    /// No block, or one without entries on any rank (counted here: MueLu's tentative
-    /// prolongators are filled without Tpetra's global constants).
-    bool is_empty(const RCP<Matrix>& M)
+    /// Which blocks of M have entries on some rank, found with one reduction for all blocks
+    /// (counted here: MueLu's tentative prolongators are filled without Tpetra's global
+    /// constants). filled[i][j] for block (i, j).
+    std::vector<std::vector<bool>> filled_blocks(const BlockedCrsMatrix& M)
     {
-      if (M.is_null())
-        return true;
-      const long long local = M->getNodeNumEntries();
-      long long       total = 0;
-      Teuchos::reduceAll(*M->getRowMap()->getComm(), Teuchos::REDUCE_SUM, local, Teuchos::outArg(total));
-      return total == 0;
+      std::vector<long long> local(M.Rows() * M.Cols(), 0), total(local.size(), 0);
+      for (std::size_t i = 0; i < M.Rows(); ++i)
+        for (std::size_t j = 0; j < M.Cols(); ++j)
+          if (const auto Mij = M.getMatrix(i, j); !Mij.is_null())
+            local[i * M.Cols() + j] = Mij->getNodeNumEntries();
+      Teuchos::reduceAll(*M.getRangeMap()->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()),
+                         local.data(), total.data());
+      std::vector<std::vector<bool>> filled(M.Rows(), std::vector<bool>(M.Cols()));
+      for (std::size_t i = 0; i < M.Rows(); ++i)
+        for (std::size_t j = 0; j < M.Cols(); ++j)
+          filled[i][j] = total[i * M.Cols() + j] > 0;
+      return filled;
     }
 
     /// D_i^-1 of every diagonal block (MueLu's SaPFactory takes the same diag(A)^-1, with its
     /// zero-diagonal guard).
-    std::vector<RCP<Vector>> inverse_diagonals(const BlockedCrsMatrix& A)
+    std::vector<RCP<Vector>> inverse_diagonals(const BlockedCrsMatrix&               A,
+                                               const std::vector<std::vector<bool>>& filled)
     {
       std::vector<RCP<Vector>> inverses;
       for (std::size_t i = 0; i < A.Rows(); ++i)
         {
           const auto Aii = A.getMatrix(i, i);
-          if (is_empty(Aii))
+          if (!filled[i][i])
             throw InputError("CoupledSaPFactory: diagonal block " + std::to_string(i) +
                              " of the operator is empty");
           inverses.push_back(Utilities::GetMatrixDiagonalInverse(*Aii));
@@ -55,8 +63,9 @@ namespace multigrid
     /// `left_out` (the rows kept tentative: a saddle-point field's D^-1 A would set omega for
     /// the others), the Rayleigh quotient of the last iterate (as MueLu's PowerMethod, which takes
     /// no blocked matrix): per block z_i = D_i^-1 sum_j A_ij q_j.
-    double largest_eigenvalue(const BlockedCrsMatrix& A, const std::vector<RCP<Vector>>& inverse_diagonal,
-                              int iterations, const std::set<std::size_t>& left_out)
+    double largest_eigenvalue(const BlockedCrsMatrix& A, const std::vector<std::vector<bool>>& filled,
+                              const std::vector<RCP<Vector>>& inverse_diagonal, int iterations,
+                              const std::set<std::size_t>& left_out)
     {
       const auto               n = A.Rows();
       std::vector<RCP<Vector>> q(n), z(n);
@@ -88,8 +97,8 @@ namespace multigrid
               if (left_out.count(i))
                 continue;
               for (std::size_t j = 0; j < n; ++j)
-                if (const auto Aij = A.getMatrix(i, j); !left_out.count(j) && !is_empty(Aij))
-                  Aij->apply(*q[j], *z[i], Teuchos::NO_TRANS, 1.0, 1.0);
+                if (filled[i][j] && !left_out.count(j))
+                  A.getMatrix(i, j)->apply(*q[j], *z[i], Teuchos::NO_TRANS, 1.0, 1.0);
               z[i]->elementWiseMultiply(1.0, *inverse_diagonal[i], *z[i], 0.0);
               rayleigh += z[i]->dot(*q[i]);
             }
@@ -111,9 +120,10 @@ namespace multigrid
           throw InputError(message.str());
         }
       std::vector<RCP<Matrix>> blocks;
+      const auto               filled = filled_blocks(Pt);
       for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j)
-          if (i != j && !is_empty(Pt.getMatrix(i, j)))
+          if (i != j && filled[i][j])
             throw InputError("CoupledSaPFactory: 'P' must be block-diagonal (a BlockedPFactory of tentative "
                              "prolongators); block (" +
                              std::to_string(i) + ", " + std::to_string(j) + ") has entries");
@@ -144,16 +154,17 @@ namespace multigrid
     /// sum_l X_il Y_lj over the nonempty products, fill-complete (null if there is none).
     /// Xpetra 13.2's TwoMatrixMultiplyBlock adds a third product to an unfinished sum and fails,
     /// which a 3 x 3 Galerkin product with a coupled P reaches.
-    RCP<Matrix> sum_of_products(const BlockedCrsMatrix& X, const BlockedCrsMatrix& Y, std::size_t i,
-                                std::size_t j)
+    RCP<Matrix> sum_of_products(const BlockedCrsMatrix& X, const std::vector<std::vector<bool>>& X_filled,
+                                const BlockedCrsMatrix& Y, const std::vector<std::vector<bool>>& Y_filled,
+                                std::size_t i, std::size_t j)
     {
       Teuchos::FancyOStream quiet(Teuchos::rcp(new Teuchos::oblackholestream()));
       RCP<Matrix>           sum;
       for (std::size_t l = 0; l < X.Cols(); ++l)
         {
-          const auto Xil = X.getMatrix(i, l), Ylj = Y.getMatrix(l, j);
-          if (is_empty(Xil) || is_empty(Ylj))
+          if (!X_filled[i][l] || !Y_filled[l][j])
             continue;
+          const auto Xil = X.getMatrix(i, l), Ylj = Y.getMatrix(l, j);
           auto product =
               Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(*Xil, false, *Ylj, false, quiet, true, true);
           if (sum.is_null())
@@ -176,9 +187,10 @@ namespace multigrid
       auto rows    = X.getRangeMapExtractor();
       auto columns = Y.getDomainMapExtractor();
       auto XY      = Teuchos::rcp(new BlockedCrsMatrix(rows, columns, 10));
+      const auto X_filled = filled_blocks(X), Y_filled = filled_blocks(Y);
       for (std::size_t i = 0; i < X.Rows(); ++i)
         for (std::size_t j = 0; j < Y.Cols(); ++j)
-          if (auto block = sum_of_products(X, Y, i, j); !block.is_null())
+          if (auto block = sum_of_products(X, X_filled, Y, Y_filled, i, j); !block.is_null())
             XY->setMatrix(i, j, block);
       XY->fillComplete();
       return XY;
@@ -206,12 +218,14 @@ namespace multigrid
   {
     const auto n     = A.Rows();
     const auto Pdiag = diagonal_blocks(Pt, n);
-    const auto Dinv  = inverse_diagonals(A);
+    const auto filled = filled_blocks(A);
+    const auto Dinv   = inverse_diagonals(A, filled);
     for (const auto i : settings.tentative_rows)
       if (i >= n)
         throw InputError("CoupledSaPFactory: tentative block " + std::to_string(i) + " of a " +
                          std::to_string(n) + " x " + std::to_string(n) + " operator");
-    const double lambda = largest_eigenvalue(A, Dinv, settings.power_iterations, settings.tentative_rows);
+    const double lambda =
+        largest_eigenvalue(A, filled, Dinv, settings.power_iterations, settings.tentative_rows);
     const double omega  = lambda > 0 ? settings.damping / lambda : 0.0;
 
     auto rows    = A.getRangeMapExtractor(); // the constructor takes non-const references
@@ -225,8 +239,8 @@ namespace multigrid
             continue;
           }
         for (std::size_t j = 0; j < n; ++j)
-          if (const auto Aij = A.getMatrix(i, j); i == j || !is_empty(Aij))
-            P->setMatrix(i, j, smoothed_block(*Aij, Pdiag[j], *Dinv[i], omega, i == j));
+          if (i == j || filled[i][j])
+            P->setMatrix(i, j, smoothed_block(*A.getMatrix(i, j), Pdiag[j], *Dinv[i], omega, i == j));
       }
     P->fillComplete();
     return P;
@@ -243,10 +257,11 @@ namespace multigrid
     auto rows    = P.getDomainMapExtractor();
     auto columns = P.getRangeMapExtractor();
     auto R       = Teuchos::rcp(new BlockedCrsMatrix(rows, columns, 10));
+    const auto filled  = filled_blocks(P);
     for (std::size_t i = 0; i < P.Rows(); ++i)
       for (std::size_t j = 0; j < P.Cols(); ++j)
-        if (const auto Pij = P.getMatrix(i, j); !is_empty(Pij))
-          R->setMatrix(j, i, Utilities::Transpose(*Pij, true));
+        if (filled[i][j])
+          R->setMatrix(j, i, Utilities::Transpose(*P.getMatrix(i, j), true));
     R->fillComplete();
     return R;
   }
