@@ -12,6 +12,7 @@
 
 #include <metis.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -40,19 +41,30 @@ namespace physics
       return dealii::Utilities::MPI::this_mpi_process(comm) % group_size == 0;
     }
 
-    /// METIS's parts of the active cells of `tria` with two balance constraints, weights 1 and
-    /// is_marked per cell, on the cells' face graph.
+    /// METIS's parts of the active cells of `tria` on the cells' face graph, balancing the cell
+    /// count and, where `is_marked` is given (one flag per active cell), the marked cells too
+    /// (two constraints).
+    ///
+    /// The imbalance METIS may accept is 3 % over the average part (METIS_OPTION_UFACTOR 30, the
+    /// default of its k-way partitioning), also for the recursive bisection used for few parts,
+    /// whose default is 0.1 % (there the tolerance applies to each of the log2(parts) bisections
+    /// and compounds: each gets its share of the 3 %). With 0.1 % a cut cannot follow a layer of
+    /// cells unless that layer happens to halve the mesh within one cell in a thousand: on the pressure-wave
+    /// tube at refinement 4 (80 layers of cells along the axis) METIS cut the fluid at 2 ranks through three
+    /// layers, jagged, with 37 % more rows coupled to the other rank than a cut along one layer, and the
+    /// fluid's rank-local ILU(0) in the FSI preconditioner lost an iteration of GMRES for it (6.4 instead
+    /// of 5.6 per Newton step, the 1-rank count).
     template <int dim>
-    std::vector<idx_t> metis_parts_with_two_balances(const dealii::Triangulation<dim>& tria,
-                                                     unsigned int n_parts, const std::vector<char>& is_marked)
+    std::vector<idx_t> metis_parts(const dealii::Triangulation<dim>& tria, unsigned int n_parts,
+                                   const std::vector<char>& is_marked)
     {
-      // The cells' face graph in METIS's compressed rows (no self-loops), two weights per cell.
       const unsigned int             n_cells = tria.n_active_cells();
+      const idx_t                    n_constraints = is_marked.empty() ? 1 : 2;
       dealii::DynamicSparsityPattern graph;
       dealii::GridTools::get_face_connectivity_of_cells(tria, graph);
       std::vector<idx_t> row_start{0}, neighbours, weights;
       row_start.reserve(n_cells + 1);
-      weights.reserve(2 * n_cells);
+      weights.reserve(n_constraints * n_cells);
       for (unsigned int i = 0; i < n_cells; ++i)
         {
           for (auto entry = graph.begin(i); entry != graph.end(i); ++entry)
@@ -60,20 +72,24 @@ namespace physics
               neighbours.push_back(static_cast<idx_t>(entry->column()));
           row_start.push_back(static_cast<idx_t>(neighbours.size()));
           weights.push_back(1);
-          weights.push_back(is_marked[i]);
+          if (n_constraints == 2)
+            weights.push_back(is_marked[i]);
         }
-      idx_t n_vertices = n_cells, n_constraints = 2, parts = n_parts, edge_cut = 0;
+      idx_t n_vertices = n_cells, constraints = n_constraints, parts = n_parts, edge_cut = 0;
       idx_t options[METIS_NOPTIONS];
       METIS_SetDefaultOptions(options);
-      std::vector<idx_t> metis_part(n_cells);
       // Recursive bisection for few parts, k-way beyond, as deal.II's METIS partition chooses.
-      const auto partition = n_parts <= 8 ? METIS_PartGraphRecursive : METIS_PartGraphKway;
-      const int  status =
-          partition(&n_vertices, &n_constraints, row_start.data(), neighbours.data(), weights.data(), nullptr,
+      const bool   bisection        = n_parts <= 8;
+      const double levels           = bisection ? std::ceil(std::log2(static_cast<double>(n_parts))) : 1;
+      options[METIS_OPTION_UFACTOR] = static_cast<idx_t>(30 / levels);
+      std::vector<idx_t> metis_part(n_cells);
+      const auto         partition = bisection ? METIS_PartGraphRecursive : METIS_PartGraphKway;
+      const int          status =
+          partition(&n_vertices, &constraints, row_start.data(), neighbours.data(), weights.data(), nullptr,
                     nullptr, &parts, nullptr, nullptr, options, &edge_cut, metis_part.data());
       if (status != METIS_OK)
         throw std::runtime_error("METIS could not partition the mesh into " + std::to_string(n_parts) +
-                                 " parts balancing the marked cells (status " + std::to_string(status) + ")");
+                                 " parts (status " + std::to_string(status) + ")");
       return metis_part;
     }
   } // namespace
@@ -93,11 +109,13 @@ namespace physics
             ++n_marked;
           }
 
-    if (n_parts == 1 || n_marked < n_parts)
-      dealii::GridTools::partition_triangulation(n_parts, tria, dealii::SparsityTools::Partitioner::metis);
+    if (n_parts == 1)
+      for (const auto& cell : tria.active_cell_iterators())
+        cell->set_subdomain_id(0);
     else
       {
-        const std::vector<idx_t> part = metis_parts_with_two_balances(tria, n_parts, is_marked);
+        const std::vector<idx_t> part =
+            metis_parts(tria, n_parts, n_marked < n_parts ? std::vector<char>() : is_marked);
         for (const auto& cell : tria.active_cell_iterators())
           cell->set_subdomain_id(part[cell->active_cell_index()]);
       }
@@ -111,7 +129,8 @@ namespace physics
   template <int dim>
   void create_distributed_mesh(dealii::parallel::fullydistributed::Triangulation<dim>& tria,
                                const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
-                               unsigned int group_size, const CellMarker<dim>& balanced)
+                               unsigned int group_size, const CellMarker<dim>& balanced,
+                               const PartitionHook<dim>& after_partition)
   {
     const MPI_Comm comm = tria.get_communicator();
     group_size          = resolved_group_size(comm, group_size);
@@ -141,6 +160,8 @@ namespace physics
               // shared triangulation's partition_metis did before; with equal shares of the
               // marked cells too where the caller marks some.
               partition_with_two_balances(t, dealii::Utilities::MPI::n_mpi_processes(c), balanced);
+              if (after_partition)
+                after_partition(t);
             },
             comm, static_cast<int>(group_size));
     serial.reset();
@@ -227,10 +248,10 @@ namespace physics
 
   template void create_distributed_mesh<2>(dealii::parallel::fullydistributed::Triangulation<2>&,
                                            const std::function<void(dealii::Triangulation<2>&)>&,
-                                           unsigned int, const CellMarker<2>&);
+                                           unsigned int, const CellMarker<2>&, const PartitionHook<2>&);
   template void create_distributed_mesh<3>(dealii::parallel::fullydistributed::Triangulation<3>&,
                                            const std::function<void(dealii::Triangulation<3>&)>&,
-                                           unsigned int, const CellMarker<3>&);
+                                           unsigned int, const CellMarker<3>&, const PartitionHook<3>&);
   template std::vector<unsigned int> partition_with_two_balances<2>(dealii::Triangulation<2>&, unsigned int,
                                                                     const CellMarker<2>&);
   template std::vector<unsigned int> partition_with_two_balances<3>(dealii::Triangulation<3>&, unsigned int,

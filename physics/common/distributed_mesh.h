@@ -34,16 +34,24 @@ namespace physics
   template <int dim>
   using CellMarker = std::function<bool(const typename dealii::Triangulation<dim>::active_cell_iterator&)>;
 
+  /// Called on each group root with the serial mesh once METIS has set its subdomain ids (one part
+  /// per rank); it may renumber the parts (a permutation of the ids keeps every part's size), e.g.
+  /// so that the parts of a second mesh lie where the same-numbered parts of a first one do.
+  template <int dim>
+  using PartitionHook = std::function<void(dealii::Triangulation<dim>&)>;
+
   /// Fills `tria` (empty) with the mesh `serial_mesh` builds. `serial_mesh` runs only on the
   /// first rank of each group, on an empty serial triangulation; it may throw
   /// std::invalid_argument (a bad file, a missing mesh), which is thrown on every rank.
   /// `group_size` 0: one group per compute node (MPI_COMM_TYPE_SHARED). With `balanced`, the
   /// partition gives every rank an equal share of the marked cells as well as of all cells
-  /// (partition_with_two_balances).
+  /// (partition_with_two_balances). `after_partition`, where given, runs on the partitioned serial
+  /// mesh of each group root.
   template <int dim>
   void create_distributed_mesh(dealii::parallel::fullydistributed::Triangulation<dim>& tria,
                                const std::function<void(dealii::Triangulation<dim>&)>& serial_mesh,
-                               unsigned int group_size = 0, const CellMarker<dim>& balanced = {});
+                               unsigned int group_size = 0, const CellMarker<dim>& balanced = {},
+                               const PartitionHook<dim>& after_partition = {});
 
   /// `create_distributed_mesh` of the gmsh mesh `file` (.geo meshed with `gmsh`'s refinement and
   /// variables, or .msh), refined `global_refinements` times before it is partitioned.
