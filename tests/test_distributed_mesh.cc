@@ -8,6 +8,7 @@
 #include "common/distributed_mesh.h"
 #include "common/mesh_input.h"
 #include "common/solid_mechanics.h"
+#include "fsi/fsi_meshes.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
@@ -20,8 +21,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <iostream>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 using namespace dealii;
 
@@ -252,4 +258,72 @@ TEST(DistributedMesh, InvertedElementOnOneRankStopsTheAssemblyEverywhere)
   EXPECT_NE(message.find("det F"), std::string::npos) << "rank " << Utilities::MPI::this_mpi_process(comm);
   // Every rank got the same message, and the communicator still works.
   EXPECT_EQ(Utilities::MPI::max(static_cast<int>(message.size()), comm), static_cast<int>(message.size()));
+}
+
+// The FSI meshes (fsi/fsi_meshes.h) are partitioned each on its own; the structure's parts are
+// then numbered after the fluid's. renumbering_by_overlap: the permutation that keeps the most
+// shared interface faces on one rank.
+TEST(FsiMeshes, RenumberingByOverlapKeepsTheMostInterfaceFacesOnOneRank)
+{
+  using physics::fsi::renumbering_by_overlap;
+  // Two parts the wrong way round (the tube at 2 ranks before): swapped.
+  EXPECT_EQ(renumbering_by_overlap({{0, 90}, {88, 2}}), (std::vector<unsigned int>{1, 0}));
+  // Already aligned: unchanged.
+  EXPECT_EQ(renumbering_by_overlap({{50, 3}, {1, 40}}), (std::vector<unsigned int>{0, 1}));
+  // Part 0 meets fluid parts 1 and 2, part 1 mostly 2: the largest count (part 1 -> 2) first,
+  // part 0 then takes 1, part 2 (no interface) the number left over.
+  EXPECT_EQ(renumbering_by_overlap({{0, 30, 20}, {0, 0, 40}, {0, 0, 0}}),
+            (std::vector<unsigned int>{1, 2, 0}));
+  // A permutation in every case, ties by part number.
+  EXPECT_EQ(renumbering_by_overlap({{5, 5, 5}, {5, 5, 5}, {5, 5, 5}}), (std::vector<unsigned int>{0, 1, 2}));
+  EXPECT_THROW(renumbering_by_overlap({{1, 2}, {3}}), std::logic_error);
+}
+
+namespace
+{
+  /// The share of the structure's owned interface faces whose fluid face (same centre) is owned by
+  /// the same rank, over all ranks.
+  template <int dim>
+  double interface_faces_on_one_rank(const parallel::fullydistributed::Triangulation<dim>& fluid,
+                                     const parallel::fullydistributed::Triangulation<dim>& structure)
+  {
+    const double tol = 1e-9; // the tube is a few centimetres long, its cells millimetres
+    auto         key = [tol](const Point<dim>& x) {
+      std::array<long long, dim> k;
+      for (unsigned d = 0; d < dim; ++d)
+        k[d] = std::llround(x[d] / tol);
+      return k;
+    };
+    std::set<std::array<long long, dim>> fluid_faces;
+    for (const auto& cell : fluid.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned f : cell->face_indices())
+          if (cell->at_boundary(f) && cell->face(f)->boundary_id() == physics::fsi::boundary::interface)
+            fluid_faces.insert(key(cell->face(f)->center()));
+    double same = 0, all = 0;
+    for (const auto& cell : structure.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned f : cell->face_indices())
+          if (cell->at_boundary(f) && cell->face(f)->boundary_id() == physics::fsi::boundary::interface)
+            {
+              ++all;
+              same += fluid_faces.count(key(cell->face(f)->center()));
+            }
+    return Utilities::MPI::sum(same, MPI_COMM_WORLD) / Utilities::MPI::sum(all, MPI_COMM_WORLD);
+  }
+} // namespace
+
+// On the pressure-wave tube (meshes/fsi_tube_3d.geo at refinement 1) the structure's part k lies
+// around the fluid's part k: at least 90 % of the interface faces have both sides on one rank
+// (measured: 1 / 0.956 / 1 on 2 / 3 / 4 ranks). METIS alone, numbering the two meshes' parts on
+// their own: 1 / 0.31 / 0.5 (and at refinement 4 on 2 ranks none: the halves the other way round).
+TEST(FsiMeshes, TheStructuresPartsLieAroundTheFluidsParts)
+{
+  parallel::fullydistributed::Triangulation<3> fluid(MPI_COMM_WORLD), structure(MPI_COMM_WORLD);
+  physics::fsi::read_fsi_meshes<3>(std::string(MESH_DIR) + "/fsi_tube_3d.geo", 1, 0, TEST_OUTPUT_DIR, fluid,
+                                   structure);
+  const double share = interface_faces_on_one_rank(fluid, structure);
+  std::cout << "tube, " << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
+            << " ranks: interface faces with both sides on one rank " << share << "\n";
+  EXPECT_GE(share, Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1 ? 1.0 : 0.9);
 }

@@ -151,10 +151,16 @@ namespace physics::fsi
     // The structure values the owned fluid and ALE interface DOFs read (sync_interface),
     // collected first and added at once.
     std::vector<GlobalIndex> read;
+    double                   on_rank = 0;
     for (const auto& [f, row] : fluid_partner_)
       if (fluid_owned_.is_element(f))
         for (const auto& [s, w] : row)
-          read.push_back(s);
+          {
+            read.push_back(s);
+            on_rank += solid_owned_.is_element(s);
+          }
+    const double couplings       = Utilities::MPI::sum(static_cast<double>(read.size()), comm_);
+    interface_couplings_on_rank_ = couplings > 0 ? Utilities::MPI::sum(on_rank, comm_) / couplings : 1;
     for (const auto& [m, row] : mesh_partner_)
       if (mesh_owned_.is_element(m))
         for (const auto& [s, w] : row)

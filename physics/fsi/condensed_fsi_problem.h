@@ -179,6 +179,10 @@ namespace physics::fsi
     /// The fluid's bounding box; 1e-9 of its diagonal is the tolerance of position matching.
     dealii::Point<dim> fluid_low_, fluid_high_;
     double             geometry_tolerance_ = 0;
+    /// The share of the condensed interface's couplings (owned fluid interface DOF, structure
+    /// DOF of its row) whose two DOFs one rank owns: 1 where the partitions of the two meshes
+    /// agree at the interface (fsi_meshes.h), over all ranks.
+    double interface_couplings_on_rank_ = 1;
     /// An owned structure interface node: its first DOF, its station and its outward normal
     /// (away from the fluid's centre line, perpendicular to x).
     struct WallNode

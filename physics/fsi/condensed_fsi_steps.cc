@@ -265,7 +265,9 @@ namespace physics::fsi
            << Utilities::MPI::max(solid_tria_.n_active_cells(), comm_)
            << " stored on a rank); Newton system: structure " << n_solid_ << ", fluid " << n_fluid_
            << ", ALE " << n_mesh_ << " DOFs (" << fluid_partner_.size()
-           << " interface velocity DOFs condensed, placeholder rows in the fluid block), shape derivatives "
+           << " interface velocity DOFs condensed, placeholder rows in the fluid block; "
+           << std::round(1000 * interface_couplings_on_rank_) / 10
+           << " % of their couplings on one rank), shape derivatives "
            << (p_.shape_derivatives ? "on" : "off") << ", " << Utilities::MPI::n_mpi_processes(comm_)
            << " ranks, preset " << p_.solver.preset << "\n";
     NewtonSettings newton_settings   = p_.solver.newton_settings(field_names());

@@ -20,6 +20,7 @@
 #include <deal.II/distributed/fully_distributed_tria.h>
 
 #include <string>
+#include <vector>
 
 namespace physics::fsi::boundary
 {
@@ -50,4 +51,13 @@ namespace physics::fsi
                        const std::string&                                      work_directory,
                        dealii::parallel::fullydistributed::Triangulation<dim>& fluid,
                        dealii::parallel::fullydistributed::Triangulation<dim>& structure);
+
+  /// Both functions above partition the two meshes with METIS each on its own, then number the
+  /// structure's parts after the fluid's with this renumbering: `overlap[s][f]` counts the
+  /// interface faces of the structure's part s whose fluid side lies in the fluid's part f; the
+  /// result is the new number of each part s, a permutation of 0 ... n-1 that keeps the most
+  /// interface faces on one rank (greedy, largest counts first: exact for 2 parts, and for any
+  /// number where every structure part meets mainly one fluid part). Parts left without a
+  /// partner take the numbers left over, in order.
+  std::vector<unsigned int> renumbering_by_overlap(const std::vector<std::vector<unsigned int>>& overlap);
 } // namespace physics::fsi
