@@ -49,11 +49,11 @@ namespace physics
     /// default of its k-way partitioning), also for the recursive bisection used for few parts,
     /// whose default is 0.1 % (there the tolerance applies to each of the log2(parts) bisections
     /// and compounds: each gets its share of the 3 %). With 0.1 % a cut cannot follow a layer of
-    /// cells unless that layer happens to halve the mesh within one cell in a thousand: on the pressure-wave
-    /// tube at refinement 4 (80 layers of cells along the axis) METIS cut the fluid at 2 ranks through three
-    /// layers, jagged, with 37 % more rows coupled to the other rank than a cut along one layer, and the
-    /// fluid's rank-local ILU(0) in the FSI preconditioner lost an iteration of GMRES for it (6.4 instead
-    /// of 5.6 per Newton step, the 1-rank count).
+    /// cells unless that layer happens to halve the mesh within one cell in a thousand: on the
+    /// pressure-wave tube at refinement 4 (80 layers of cells along the axis) METIS cut the fluid
+    /// at 2 ranks through three layers, jagged, with 37 % more rows coupled to the other rank
+    /// than a cut along one layer, and the fluid's rank-local ILU(0) in the FSI preconditioner
+    /// lost an iteration of GMRES for it (6.4 instead of 5.6 per Newton step, the 1-rank count).
     template <int dim>
     std::vector<idx_t> metis_parts(const dealii::Triangulation<dim>& tria, unsigned int n_parts,
                                    const std::vector<char>& is_marked)
@@ -156,9 +156,8 @@ namespace physics
                                                                                                      dim>(
             [&](dealii::Triangulation<dim>& t) { t = std::move(*serial); },
             [&](dealii::Triangulation<dim>& t, const MPI_Comm& c, unsigned int) {
-              // METIS on the cell graph: parts of equal size with short interfaces, as the
-              // shared triangulation's partition_metis did before; with equal shares of the
-              // marked cells too where the caller marks some.
+              // METIS on the cell graph: parts of equal size (within 3 %) with short
+              // interfaces; with equal shares of the marked cells too where the caller marks some.
               partition_with_two_balances(t, dealii::Utilities::MPI::n_mpi_processes(c), balanced);
               if (after_partition)
                 after_partition(t);
