@@ -9,6 +9,7 @@
 #include "common/mesh_input.h"
 #include "common/solid_mechanics.h"
 #include "fsi/fsi_meshes.h"
+#include "fsi/interface_nodes.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
@@ -21,7 +22,6 @@
 
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
 #include <iostream>
 #include <set>
@@ -287,14 +287,9 @@ namespace
   double interface_faces_on_one_rank(const parallel::fullydistributed::Triangulation<dim>& fluid,
                                      const parallel::fullydistributed::Triangulation<dim>& structure)
   {
-    const double tol = 1e-9; // the tube is a few centimetres long, its cells millimetres
-    auto         key = [tol](const Point<dim>& x) {
-      std::array<long long, dim> k;
-      for (unsigned d = 0; d < dim; ++d)
-        k[d] = std::llround(x[d] / tol);
-      return k;
-    };
-    std::set<std::array<long long, dim>> fluid_faces;
+    // the tube is a few centimetres long, its cells millimetres
+    auto key = [](const Point<dim>& x) { return physics::fsi::position_key(x, 1e-9); };
+    std::set<physics::fsi::PositionKey<dim>> fluid_faces;
     for (const auto& cell : fluid.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const unsigned f : cell->face_indices())

@@ -252,14 +252,8 @@ namespace physics::fsi
         // fluid volume that their flux does not see (channel with 30 fluid and 60 wall cells:
         // mass imbalance 2.2e-2 of the inflow instead of 1e-4). The neighbours' dual functions
         // are left as they are (their rows still sum to 1).
-        using Key = std::array<long long, dim>;
-        const auto key = [tol](const Point<dim>& x) {
-          Key k;
-          for (unsigned d = 0; d < dim; ++d)
-            k[d] = std::llround(x[d] / tol);
-          return k;
-        };
-        std::map<Key, std::size_t> clamped_node;
+        const auto key = [tol](const Point<dim>& x) { return position_key(x, tol); };
+        std::map<PositionKey<dim>, std::size_t> clamped_node;
         for (std::size_t k = 0; k < solid_nodes.positions.size(); ++k)
           if (solid_clamped_.count(solid_nodes.dofs[k * dim]) > 0)
             clamped_node[key(solid_nodes.positions[k])] = k;

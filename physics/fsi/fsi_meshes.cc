@@ -2,6 +2,7 @@
 
 #include "common/distributed_mesh.h"
 #include "common/mesh_input.h"
+#include "fsi/interface_nodes.h"
 
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
@@ -58,17 +59,6 @@ namespace physics::fsi
 
   namespace
   {
-    /// A face's centre in units of `tolerance` (far below any cell size), so that the same face
-    /// of the two meshes gives the same key.
-    template <int dim>
-    std::array<long long, dim> face_key(const Point<dim>& x, double tolerance)
-    {
-      std::array<long long, dim> k;
-      for (unsigned int d = 0; d < dim; ++d)
-        k[d] = std::llround(x[d] / tolerance);
-      return k;
-    }
-
     /// METIS partitions the fluid and the structure meshes on their own, and nothing makes its
     /// part k of the structure lie where its part k of the fluid does: on the pressure-wave tube
     /// at refinement 4 and 2 ranks it put the structure's part 0 around the fluid's part 1, so
@@ -89,7 +79,7 @@ namespace physics::fsi
           for (const auto& cell : fluid.active_cell_iterators())
             for (const unsigned f : cell->face_indices())
               if (cell->at_boundary(f) && cell->face(f)->boundary_id() == boundary::interface)
-                fluid_part_[face_key(cell->face(f)->center(), tolerance_)] = cell->subdomain_id();
+                fluid_part_[position_key(cell->face(f)->center(), tolerance_)] = cell->subdomain_id();
         };
       }
 
@@ -106,7 +96,7 @@ namespace physics::fsi
             for (const unsigned f : cell->face_indices())
               if (cell->at_boundary(f) && cell->face(f)->boundary_id() == boundary::interface)
                 {
-                  const auto it = fluid_part_.find(face_key(cell->face(f)->center(), tolerance_));
+                  const auto it = fluid_part_.find(position_key(cell->face(f)->center(), tolerance_));
                   if (it != fluid_part_.end())
                     ++overlap[cell->subdomain_id()][it->second];
                 }
@@ -118,7 +108,7 @@ namespace physics::fsi
 
     private:
       double                                                    tolerance_ = 0;
-      std::map<std::array<long long, dim>, types::subdomain_id> fluid_part_;
+      std::map<PositionKey<dim>, types::subdomain_id>           fluid_part_;
     };
   } // namespace
 
@@ -193,8 +183,8 @@ namespace physics::fsi
       // Boundary faces of the whole mesh by their centres (in units of a tolerance far below
       // any cell size, so that the same face gives the same key in both meshes).
       const double tol = 1e-9 * GridTools::diameter(whole);
-      auto         key = [tol](const Point<dim>& x) { return face_key(x, tol); };
-      std::map<std::array<long long, dim>, types::boundary_id> outer_faces;
+      auto         key = [tol](const Point<dim>& x) { return position_key(x, tol); };
+      std::map<PositionKey<dim>, types::boundary_id> outer_faces;
       for (const auto& cell : whole.active_cell_iterators())
         for (const unsigned f : cell->face_indices())
           if (cell->at_boundary(f))

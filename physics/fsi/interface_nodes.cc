@@ -56,16 +56,9 @@ namespace physics::fsi
   std::map<GlobalIndex, GlobalIndex> match_interface_nodes(const InterfaceNodes<dim>& from,
                                                            const InterfaceNodes<dim>& to, double tolerance)
   {
-    // Nodes keyed by their coordinates in units of the tolerance: matching meshes generate the
-    // interface nodes from the same coordinates, so equal nodes get equal keys.
-    using Key = std::array<long long, dim>;
-    auto key  = [tolerance](const Point<dim>& x) {
-      Key k;
-      for (unsigned int d = 0; d < dim; ++d)
-        k[d] = std::llround(x[d] / tolerance);
-      return k;
-    };
-    std::map<Key, std::size_t> node_of;
+    // Nodes keyed by their coordinates in units of the tolerance (position_key).
+    auto key = [tolerance](const Point<dim>& x) { return position_key(x, tolerance); };
+    std::map<PositionKey<dim>, std::size_t> node_of;
     for (std::size_t k = 0; k < to.positions.size(); ++k)
       node_of[key(to.positions[k])] = k;
     const unsigned int                 n = std::min(from.components, to.components);

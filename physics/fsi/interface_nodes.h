@@ -16,6 +16,8 @@
 
 #include <mpi.h>
 
+#include <array>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <string>
@@ -24,6 +26,21 @@
 
 namespace physics::fsi
 {
+  /// A point's coordinates in units of `tolerance` (far below any cell size): the fluid and the
+  /// structure mesh generate their interface from the same coordinates, so the same node (or face
+  /// centre) of the two gets the same key in a std::map.
+  template <int dim>
+  using PositionKey = std::array<long long, dim>;
+
+  template <int dim>
+  PositionKey<dim> position_key(const dealii::Point<dim>& x, double tolerance)
+  {
+    PositionKey<dim> k;
+    for (unsigned int d = 0; d < dim; ++d)
+      k[d] = std::llround(x[d] / tolerance);
+    return k;
+  }
+
   /// One field's interface nodes of all ranks: node k at `positions[k]` carries the DOFs
   /// dofs[k * components], ..., dofs[k * components + components - 1] (its first components).
   template <int dim>
