@@ -36,6 +36,10 @@ namespace multigrid
     std::string              preset;
     std::string              kind;
     double                   setup_seconds = 0.0;
+    /// The fully coupled level smoother's contraction check (SetupOptions::check_level_smoother),
+    /// timed apart from setup_seconds: a check of the preset that a run pays once, not a part of
+    /// the preconditioner that every Newton system's set-up pays.
+    double                   smoother_check_seconds = 0.0;
     std::vector<LevelInfo>   levels; ///< level 0 = fine; empty for direct/cheapsimple outer
     double                   operator_complexity = 1.0;
     std::string              coarse_solver;

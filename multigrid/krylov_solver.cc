@@ -212,8 +212,11 @@ namespace multigrid
     for (std::size_t k = 0; k < r.block_names.size(); ++k)
       out << "  block " << k << " " << std::left << std::setw(20) << r.block_names[k] << std::right
           << r.block_relative_residuals[k] << "\n";
-    out << std::fixed << std::setprecision(3) << "setup seconds       " << p.setup_seconds << "\n"
-        << "solve seconds       " << r.solve_seconds << "\n"
+    out << std::fixed << std::setprecision(3) << "setup seconds       " << p.setup_seconds << "\n";
+    if (p.smoother_check_seconds > 0)
+      out << "smoother check s    " << p.smoother_check_seconds
+          << " (once per run in the apps; not in the set-up)\n";
+    out << std::fixed << std::setprecision(3) << "solve seconds       " << r.solve_seconds << "\n"
         << std::setprecision(1) << "peak memory per rank max " << r.peak_memory_mb_max << " MB, mean "
         << r.peak_memory_mb_mean << " MB\n"
         << std::defaultfloat;
@@ -236,6 +239,7 @@ namespace multigrid
     for (std::size_t i = 0; i < r.residual_history.size(); ++i)
       s << (i ? "," : "") << json_number(r.residual_history[i]);
     s << "],\"setup_seconds\":" << json_number(p.setup_seconds)
+      << ",\"smoother_check_seconds\":" << json_number(p.smoother_check_seconds)
       << ",\"solve_seconds\":" << json_number(r.solve_seconds)
       << ",\"operator_complexity\":" << json_number(p.operator_complexity)
       << ",\"peak_memory_mb_max\":" << json_number(r.peak_memory_mb_max)

@@ -7,7 +7,8 @@ The log (physics/common/newton_solver.cc, step_driver.cc, solver_parameters.cc) 
   `residual_<field>`, `assembly_seconds`, `converged`; contact adds `active` (active slave nodes)
   and `active_changed`; a line that was followed by a linear solve also has `linear_iterations`,
   `linear_converged`, `setup_seconds`, `solve_seconds`, `global_size`, `operator_complexity`,
-  `peak_memory_mb` (the largest VmHWM over the ranks);
+  `peak_memory_mb` (the largest VmHWM over the ranks), and on the run's first set-up of a fully
+  coupled preset `smoother_check_seconds` (its level smoother's check, not in `setup_seconds`);
 - event lines (`"event"`: `step_cut`, `step_grown`, `run_stopped`, and `timers` at the end, with
   `<section>_seconds` and `peak_memory_mb_max` / `peak_memory_mb_mean`, the peak resident memory
   per rank, largest and mean over the ranks, and `peak_memory_mb_max_rank`, the rank of the largest);
@@ -143,7 +144,10 @@ class RunLog:
             "gmres_all_converged": all(l.get("linear_converged") for l in s),
             "converged": bool(last.get("converged")) and not any(e["event"] == "run_stopped" for e in self.events),
             "step_cuts": sum(1 for e in self.events if e["event"] == "step_cut"),
-            "setup_seconds": total("setup_seconds"), "solve_seconds": total("solve_seconds"),
+            # The run's preconditioner seconds: every set-up and the one check of the level smoother.
+            "setup_seconds": None if total("setup_seconds") is None else
+            total("setup_seconds") + sum(l.get("smoother_check_seconds", 0.0) for l in s),
+            "solve_seconds": total("solve_seconds"),
             "assembly_seconds": sum(l.get("assembly_seconds", 0.0) for l in self.newton) if self.newton else None,
             "operator_complexity": largest("operator_complexity"),
             # The closing timers line has the run's peak per rank (largest and mean over the

@@ -177,7 +177,7 @@ namespace physics
         report.preconditioner.setup_seconds += refreshed ? first_setup : 0.0;
       }
     if (reused)
-      report.preconditioner.setup_seconds = 0;
+      report.preconditioner.setup_seconds = report.preconditioner.smoother_check_seconds = 0;
     if (reuse != PreconditionerReuse::none)
       line.add("preconditioner_reused", reused);
     if (reuse == PreconditionerReuse::transfers)
@@ -185,7 +185,9 @@ namespace physics
     if (reuse == PreconditionerReuse::none)
       preconditioner_.reset();
     result.linear_iterations.push_back(report.iterations);
-    result.setup_seconds += report.preconditioner.setup_seconds;
+    // The run's preconditioner seconds: the set-ups and the one check of the level smoother.
+    result.setup_seconds +=
+        report.preconditioner.setup_seconds + report.preconditioner.smoother_check_seconds;
     result.solve_seconds += report.solve_seconds;
     report_linear_solve(report, line, console_, comm_);
     if (!report.failure.empty())

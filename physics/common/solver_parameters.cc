@@ -262,6 +262,8 @@ namespace physics
         .add("setup_seconds", report.preconditioner.setup_seconds).add("solve_seconds", report.solve_seconds)
         .add("global_size", static_cast<long long>(report.global_size))
         .add("operator_complexity", report.preconditioner.operator_complexity).add("peak_memory_mb", peak_mb);
+    if (report.preconditioner.smoother_check_seconds > 0)
+      line.add("smoother_check_seconds", report.preconditioner.smoother_check_seconds);
     // The AMG levels: rows, and (blocked hierarchies) on how many ranks each lives, which
     // coarse-level rebalancing ("repartition/enable") changes.
     std::vector<long long> rows, ranks;
