@@ -146,7 +146,9 @@ namespace multigrid
       List& aggregates = factory(f, "Aggregates" + s, "UncoupledAggregationFactory");
       aggregates.set("Graph", "Graph" + s);
       aggregates.set("DofsPerNode", "Graph" + s);
-      aggregates.set("aggregation: ordering", std::string("graph"));
+      aggregates.set("aggregation: ordering", p.isType<std::string>("aggregation: ordering")
+                                                  ? p.get<std::string>("aggregation: ordering")
+                                                  : std::string("graph"));
       aggregates.set("aggregation: min agg size", p.get<int>("aggregation: min agg size"));
       aggregates.set("aggregation: max selected neighbors", 0);
     }
@@ -165,6 +167,9 @@ namespace multigrid
       aggregates.set("number of DOFs per dual node", dofs_per_node);
       aggregates.set("level 0 mapping", leader_map_name(k));
       aggregates.set("leave out Dirichlet nodes", true);
+      // a follower that shares only an interface with its leader (the fluid following the
+      // structure) aggregates its other nodes on its own graph
+      aggregates.set("aggregate unmatched nodes", true);
       // its coarse levels' mapping: "DualNodeID2PrimalNodeID" of the group "Field<k>" (defined
       // after this entry, which it reads)
       factory(f, "LeaderMapping" + s, "InterfaceMappingTransferFactory")
@@ -450,7 +455,8 @@ namespace multigrid
                              "' node at its position on its rank");
           notes.push_back("block '" + follower.name + "' takes the aggregates of '" + lead.name +
                           "': " + std::to_string(nodes - unmatched) + " of " + std::to_string(nodes) +
-                          " nodes matched" + (unmatched > 0 ? " (the others: one-node aggregates)" : ""));
+                          " nodes matched" +
+                          (unmatched > 0 ? " (the others aggregated on its own graph)" : ""));
         }
     return maps;
   }

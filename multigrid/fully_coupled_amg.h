@@ -21,6 +21,7 @@
 // n); solve_block_system --print-xml prints it.
 //
 // Preset parameters: "max levels", "coarse: max size", "aggregation: min agg size",
+// "aggregation: ordering" (the order of MueLu's uncoupled aggregation: natural | graph | random),
 // "prolongator" (smoothed | tentative; per block in the optional sublist "block prolongators",
 // NAME = smoothed | tentative), "sa: damping factor", "smoother: sweeps",
 // "smoother: damping", "smoother: max growth" (see check_level_smoother), and the sublist
@@ -31,8 +32,11 @@
 // FOLLOWER = LEADER (block names, the leader before the follower; "own": the block aggregates on
 // its own diagonal block, the default): the follower's nodes join the aggregates of the leader's
 // nodes at the same positions (node_interface_aggregation.h), so both fields coarsen onto one
-// coarse mesh - the FSI's ALE field lives on the fluid mesh. Not with "repartition/enable" (the
-// rebalancing moves the node mapping of the contact lists' two blocks only).
+// coarse mesh - the FSI's ALE field lives on the fluid mesh; the follower's nodes without a
+// leader node at their position are aggregated on its own graph, where they grow the copied
+// aggregates - the FSI fluid shares only the interface with the structure ("fluid = structure":
+// one coarse interface). Not with "repartition/enable" (the rebalancing moves the node mapping
+// of the contact lists' two blocks only).
 #pragma once
 
 #include "block_system.h"
@@ -60,7 +64,8 @@ namespace multigrid
   using LeaderNodeMaps = std::map<std::string, std::map<LO, LO>>;
 
   /// The node maps of every block that follows another block's aggregates, matched by node
-  /// positions on each rank (nodes without a partner on their rank become one-node aggregates);
+  /// positions on each rank (nodes without a partner on their rank are aggregated on the
+  /// follower's own graph);
   /// a line per such block goes to `notes`. Throws InputError when no node of a block matches.
   LeaderNodeMaps follower_node_maps(const Preset& preset, const BlockSystem& system,
                                     std::vector<std::string>& notes);

@@ -11,6 +11,7 @@
 #include <Xpetra_MapFactory.hpp>
 
 #include <algorithm>
+#include <map>
 #include <string>
 
 namespace multigrid
@@ -39,6 +40,9 @@ namespace multigrid
     list->set<bool>("separate inactive multipliers", false,
                     "Multiplier nodes whose constraint rows are all zero (inactive contact nodes: "
                     "identity rows) get aggregates apart from the active ones");
+    list->set<bool>("aggregate unmatched nodes", false,
+                    "Nodes without a leader node are aggregated on the follower's own node graph, "
+                    "growing the copied aggregates (else: one-node aggregates)");
     list->set<bool>("leave out Dirichlet nodes", false,
                     "Nodes whose rows hold only their diagonal entry join no aggregate (zero rows of "
                     "the tentative prolongator, as MueLu's own aggregation treats Dirichlet nodes)");
@@ -78,6 +82,7 @@ namespace multigrid
                                    << level.GetLevelID());
     const GO offset = dofs->getGlobalNumElements() > 0 ? dofs->getMinAllGlobalIndex() : 0;
 
+    const bool              grow      = GetParameterList().get<bool>("aggregate unmatched nodes");
     const std::vector<bool> active    = active_nodes(level, *dofs, dpn, n_local);
     const std::vector<bool> dirichlet = dirichlet_nodes(*A, dpn, n_local);
 
@@ -110,6 +115,13 @@ namespace multigrid
         const LO leader_aggregate =
             leader_node == no_primal_node ? -1 : leader_vertex_to_aggregate[leader_node];
         LO aggregate;
+        if (leader_aggregate < 0 && grow)
+          {
+            // aggregated below, on the follower's graph
+            vertex_to_aggregate[i] = -1;
+            winner[i]              = comm->getRank();
+            continue;
+          }
         if (leader_aggregate < 0)
           {
             // No leader node, or one in no aggregate (a prescribed slave node: Dirichlet rows are
@@ -127,6 +139,17 @@ namespace multigrid
           }
         vertex_to_aggregate[i] = aggregate;
         winner[i]              = comm->getRank();
+      }
+    if (grow)
+      {
+        std::vector<LO> assigned(vertex_to_aggregate.begin(), vertex_to_aggregate.begin() + n_local);
+        const LO        copied = n_aggregates;
+        n_aggregates = aggregate_free_nodes(local_node_graph(*A, dpn, n_local), assigned, dirichlet, copied);
+        for (LO a = copied; a < n_aggregates; ++a)
+          (*coarse_to_leader)[a] = no_primal_node; // a coarse node of the follower only
+        for (LO i = 0; i < n_local; ++i)
+          if (!dirichlet[i])
+            vertex_to_aggregate[i] = assigned[i];
       }
     aggregates->SetNumAggregates(n_aggregates);
     aggregates->AggregatesCrossProcessors(false);
@@ -205,5 +228,88 @@ namespace multigrid
       dirichlet[i] =
           std::all_of(rows.begin() + i * dpn, rows.begin() + (i + 1) * dpn, [](bool r) { return r; });
     return dirichlet;
+  }
+
+  std::vector<std::vector<LO>> local_node_graph(const Matrix& A, int dpn, LO n_local)
+  {
+    const auto rows = A.getRowMap();
+    const auto cols = A.getColMap();
+    // column -> node of this rank's rows, -1 for a ghost
+    std::vector<LO> column_node(cols->getNodeNumElements());
+    for (std::size_t c = 0; c < column_node.size(); ++c)
+      {
+        const LO row   = rows->getLocalElement(cols->getGlobalElement(static_cast<LO>(c)));
+        column_node[c] = row == Teuchos::OrdinalTraits<LO>::invalid() ? -1 : row / dpn;
+      }
+    std::vector<std::vector<LO>> graph(n_local);
+    for (LO i = 0; i < n_local; ++i)
+      {
+        auto& neighbours = graph[i];
+        for (int k = 0; k < dpn; ++k)
+          {
+            Teuchos::ArrayView<const LO> columns;
+            Teuchos::ArrayView<const SC> values;
+            A.getLocalRowView(i * dpn + k, columns, values);
+            for (LO j = 0; j < columns.size(); ++j)
+              if (values[j] != 0.0 && column_node[columns[j]] >= 0 && column_node[columns[j]] != i)
+                neighbours.push_back(column_node[columns[j]]);
+          }
+        std::sort(neighbours.begin(), neighbours.end());
+        neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+      }
+    return graph;
+  }
+
+  LO aggregate_free_nodes(const std::vector<std::vector<LO>>& graph, std::vector<LO>& aggregate,
+                          const std::vector<bool>& excluded, LO n_aggregates)
+  {
+    const LO n    = static_cast<LO>(graph.size());
+    auto     free = [&](LO i) { return !excluded[i] && aggregate[i] < 0; };
+    // 1. roots: free nodes with free neighbours only
+    for (LO i = 0; i < n; ++i)
+      if (free(i) && !graph[i].empty() &&
+          std::all_of(graph[i].begin(), graph[i].end(), [&](LO j) { return excluded[j] || free(j); }))
+        {
+          aggregate[i] = n_aggregates;
+          for (const LO j : graph[i])
+            if (!excluded[j])
+              aggregate[j] = n_aggregates;
+          ++n_aggregates;
+        }
+    // 2. the free nodes join the neighbouring aggregate they have the most edges to
+    for (int pass = 0; pass < 2; ++pass)
+      {
+        const std::vector<LO> before = aggregate; // a pass attaches to the aggregates it started with
+        for (LO i = 0; i < n; ++i)
+          {
+            if (!free(i))
+              continue;
+            std::map<LO, int> edges;
+            for (const LO j : graph[i])
+              if (!excluded[j] && before[j] >= 0)
+                ++edges[before[j]];
+            LO  best       = -1;
+            int best_edges = 0;
+            for (const auto& [a, count] : edges) // ascending a: the lower number wins a tie
+              if (count > best_edges)
+                {
+                  best       = a;
+                  best_edges = count;
+                }
+            if (best >= 0)
+              aggregate[i] = best;
+          }
+      }
+    // 3. what is left: new aggregates with their free neighbours
+    for (LO i = 0; i < n; ++i)
+      if (free(i))
+        {
+          aggregate[i] = n_aggregates;
+          for (const LO j : graph[i])
+            if (free(j))
+              aggregate[j] = n_aggregates;
+          ++n_aggregates;
+        }
+    return n_aggregates;
   }
 } // namespace multigrid

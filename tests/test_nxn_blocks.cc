@@ -20,6 +20,7 @@
 #include "hierarchy_utils.h"
 #include "ilu0_smoother.h"
 #include "krylov_solver.h"
+#include "node_interface_aggregation.h"
 #include "presets.h"
 #include "spatial_order.h"
 
@@ -584,11 +585,13 @@ TEST(FullyCoupledAmg, BlockWithoutNullspaceFallsBackToTranslations)
 
 namespace
 {
-  /// Whether the ALE block's aggregates are the fluid's on every coarse level: two ALE nodes
-  /// share a level-l aggregate exactly when their fluid nodes (at the same positions) do; ALE
-  /// nodes in no aggregate (its Dirichlet nodes) are left aside. Counts the pairs of aggregates
-  /// (ALE, fluid) that break the one-to-one correspondence, over all levels and ranks.
-  long long ale_aggregates_differing_from_the_fluids(const BlockSystem& system, const BlockPreconditioner& M)
+  /// Whether block `follower`'s aggregates are block `leader`'s on every coarse level where their
+  /// nodes lie at the same positions: two such follower nodes share a level-l aggregate exactly
+  /// when their leader nodes do; nodes in no aggregate (Dirichlet nodes) and nodes without a node
+  /// of the other block at their position are left aside. Counts the pairs of aggregates
+  /// (follower, leader) that break the one-to-one correspondence, over all levels and ranks.
+  long long aggregates_differing(const BlockSystem& system, const BlockPreconditioner& M,
+                                 std::size_t follower, std::size_t leader)
   {
     auto positions = [](const BlockInfo& b) {
       std::vector<double> x;
@@ -597,9 +600,10 @@ namespace
           x.push_back(b.coordinates->getData(c)[i]);
       return x;
     };
-    const auto  fluid_node = same_positions(positions(system.block(2)), positions(system.block(1)), 2, 1e-9);
-    const auto& fluid      = M.aggregates().at(1).levels;
-    const auto& ale        = M.aggregates().at(2).levels;
+    const auto fluid_node =
+        same_positions(positions(system.block(follower)), positions(system.block(leader)), 2, 1e-9);
+    const auto& fluid      = M.aggregates().at(leader).levels;
+    const auto& ale        = M.aggregates().at(follower).levels;
     long long   differing  = 0;
     for (std::size_t l = 1; l < ale.size(); ++l)
       {
@@ -631,7 +635,7 @@ TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
       apply_overrides(preset, {"coarse: max size=200", "block aggregates/ale=" + ale});
       BlockPreconditioner M(system, preset, keep);
       ASSERT_EQ(M.info().levels.size(), 4u) << ale;
-      const long long differing = ale_aggregates_differing_from_the_fluids(system, M);
+      const long long differing = aggregates_differing(system, M, 2, 1);
       if (ale == "fluid")
         {
           EXPECT_EQ(differing, 0);
@@ -669,4 +673,91 @@ TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
   apply_overrides(preset, {"repartition/enable=true"});
   e = error_of([&] { BlockPreconditioner M(system, preset); });
   EXPECT_NE(e.find("which the coarse-level rebalancing does not support yet"), std::string::npos) << e;
+}
+
+TEST(FullyCoupledAmg, FluidTakesTheStructuresInterfaceAggregatesAndAggregatesTheRest)
+{
+  // coupled-fields-2d: the fluid grid's column x = 1 lies on the structure's. With "block
+  // aggregates/fluid=structure" the fluid's interface nodes take the structure's aggregates on
+  // every level (one coarse interface), its other nodes are aggregated on its own graph (no
+  // one-node aggregates, as the plain follower would make them) and grow those aggregates.
+  const auto   system = coupled_fields_2d(comm(), {3, false});
+  SetupOptions keep;
+  keep.keep_aggregates = true;
+  for (const std::string fluid : {"structure", "own"})
+    {
+      Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
+      apply_overrides(preset, {"coarse: max size=200", "block aggregates/fluid=" + fluid});
+      BlockPreconditioner M(system, preset, keep);
+      ASSERT_EQ(M.info().levels.size(), 4u) << fluid;
+      const long long differing = aggregates_differing(system, M, 1, 0);
+      if (fluid == "own")
+        {
+          EXPECT_GT(differing, 0); // the check can fail
+          continue;
+        }
+      EXPECT_EQ(differing, 0);
+      const auto note = std::find_if(M.info().notes.begin(), M.info().notes.end(), [](const auto& n) {
+        return n.find("block 'fluid' takes the aggregates of 'structure'") != std::string::npos;
+      });
+      ASSERT_NE(note, M.info().notes.end());
+      // 65 x 65 fluid nodes, the column x = 1 matched (on 2 ranks: each rank its own part of it)
+      EXPECT_NE(note->find(" of 4225 nodes matched (the others aggregated on its own graph)"),
+                std::string::npos)
+          << *note;
+      // level 1: fluid aggregates of several nodes, about as many as on its own (3 DOFs each)
+      const auto&       fluid_levels = M.aggregates().at(1).levels;
+      std::map<GO, int> size;
+      for (const GO a : fluid_levels.at(1))
+        if (a >= 0)
+          ++size[a];
+      long long singletons =
+          std::count_if(size.begin(), size.end(), [](const auto& s) { return s.second == 1; });
+      Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, singletons, Teuchos::outArg(singletons));
+      EXPECT_EQ(singletons, 0);
+      EXPECT_LT(M.info().levels[1].block_rows[1], 3 * 4225 / 4);
+      auto         x = MVF::Build(system.full_map(), 1, true);
+      SolveOptions options;
+      options.tolerance = 1e-6;
+      const auto report = solve(system, M, *x, options);
+      EXPECT_TRUE(report.converged) << report.failure;
+      EXPECT_LT(report.iterations, 15);
+    }
+}
+
+TEST(NodeInterfaceAggregation, FreeNodesAreAggregatedAndGrowTheCopiedAggregates)
+{
+  // a path 0 - 1 - ... - 9: node 0 in copied aggregate 0, node 9 excluded (a Dirichlet node)
+  std::vector<std::vector<LO>> path(10);
+  for (LO i = 0; i + 1 < 10; ++i)
+    {
+      path[i].push_back(i + 1);
+      path[i + 1].push_back(i);
+    }
+  std::vector<LO>   aggregate(10, -1);
+  std::vector<bool> excluded(10, false);
+  aggregate[0] = 0;
+  excluded[9]  = true;
+  const LO n   = aggregate_free_nodes(path, aggregate, excluded, 1);
+  // node 1 touches the copied node, so the roots are 2 {1, 2, 3}, 5 {4, 5, 6} and 8 {7, 8}
+  // (the excluded neighbour 9 neither stops a root nor joins it)
+  EXPECT_EQ(aggregate[0], 0);
+  EXPECT_EQ(aggregate[9], -1);
+  for (LO i = 1; i < 9; ++i)
+    EXPECT_GE(aggregate[i], 0) << i;
+  EXPECT_EQ(n, 4);
+  EXPECT_EQ(aggregate[1], aggregate[2]);
+  EXPECT_EQ(aggregate[2], aggregate[3]);
+  EXPECT_EQ(aggregate[4], aggregate[6]);
+  EXPECT_EQ(aggregate[7], aggregate[8]);
+  // a star: the free centre's neighbours are all copied -> it joins the one it has most edges to
+  std::vector<std::vector<LO>> star{{1, 2, 3}, {0}, {0}, {0}};
+  std::vector<LO>              star_aggregate{-1, 0, 1, 1};
+  EXPECT_EQ(aggregate_free_nodes(star, star_aggregate, std::vector<bool>(4, false), 2), 2);
+  EXPECT_EQ(star_aggregate[0], 1);
+  // the copied aggregates grow by a layer: a copied node with a free neighbour that is no root
+  std::vector<std::vector<LO>> two{{1}, {0}};
+  std::vector<LO>              two_aggregate{0, -1};
+  EXPECT_EQ(aggregate_free_nodes(two, two_aggregate, std::vector<bool>(2, false), 1), 1);
+  EXPECT_EQ(two_aggregate[1], 0);
 }
