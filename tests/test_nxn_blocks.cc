@@ -40,6 +40,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <memory>
 
 using namespace multigrid;
 using test_helpers::comm;
@@ -619,6 +620,39 @@ namespace
     Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, differing, Teuchos::outArg(differing));
     return differing;
   }
+
+  /// The fully coupled SA preset with coarse size 200 (4 levels on coupled-fields-2d:3) and one
+  /// "block aggregates" setting, its aggregates kept.
+  std::unique_ptr<BlockPreconditioner> with_block_aggregates(const BlockSystem& system,
+                                                             const std::string& setting)
+  {
+    Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
+    apply_overrides(preset, {"coarse: max size=200", "block aggregates/" + setting});
+    SetupOptions keep;
+    keep.keep_aggregates = true;
+    return std::make_unique<BlockPreconditioner>(system, preset, keep);
+  }
+
+  /// The set-up's note that contains `text` ("" and a failure if there is none).
+  std::string note_with(const BlockPreconditioner& M, const std::string& text)
+  {
+    for (const auto& note : M.info().notes)
+      if (note.find(text) != std::string::npos)
+        return note;
+    ADD_FAILURE() << "no note with '" << text << "'";
+    return "";
+  }
+
+  /// GMRES with M reaches 1e-6 on the system in fewer than 15 iterations.
+  void expect_fast_solve(const BlockSystem& system, const BlockPreconditioner& M)
+  {
+    auto         x = MVF::Build(system.full_map(), 1, true);
+    SolveOptions options;
+    options.tolerance = 1e-6;
+    const auto report = solve(system, M, *x, options);
+    EXPECT_TRUE(report.converged) << report.failure;
+    EXPECT_LT(report.iterations, 15);
+  }
 } // namespace
 
 TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
@@ -626,14 +660,11 @@ TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
   // coupled-fields-2d: the ALE field lives on the fluid's grid. With "block aggregates/ale=fluid"
   // both fields coarsen onto one coarse grid (a 4-level hierarchy: 3 coarse levels checked); on
   // their own they do not, which shows that the check can fail.
-  const auto   system = coupled_fields_2d(comm(), {3, false});
-  SetupOptions keep;
-  keep.keep_aggregates = true;
+  const auto system = coupled_fields_2d(comm(), {3, false});
   for (const std::string ale : {"fluid", "own"})
     {
-      Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
-      apply_overrides(preset, {"coarse: max size=200", "block aggregates/ale=" + ale});
-      BlockPreconditioner M(system, preset, keep);
+      const auto  preconditioner = with_block_aggregates(system, "ale=" + ale);
+      const auto& M              = *preconditioner;
       ASSERT_EQ(M.info().levels.size(), 4u) << ale;
       const long long differing = aggregates_differing(system, M, 2, 1);
       if (ale == "fluid")
@@ -643,17 +674,9 @@ TEST(FullyCoupledAmg, AleTakesTheFluidsAggregatesOnEveryLevel)
           // of the fluid (3 DOFs) at most one of the ALE (2 DOFs)
           for (std::size_t l = 1; l < 4; ++l)
             EXPECT_LE(M.info().levels[l].block_rows[2] * 3, M.info().levels[l].block_rows[1] * 2) << l;
-          const auto note = std::find_if(M.info().notes.begin(), M.info().notes.end(), [](const auto& n) {
-            return n.find("block 'ale' takes the aggregates of 'fluid'") != std::string::npos;
-          });
-          ASSERT_NE(note, M.info().notes.end());
-          EXPECT_NE(note->find("4225 of 4225 nodes matched"), std::string::npos) << *note;
-          auto         x = MVF::Build(system.full_map(), 1, true);
-          SolveOptions options;
-          options.tolerance = 1e-6;
-          const auto report = solve(system, M, *x, options);
-          EXPECT_TRUE(report.converged) << report.failure;
-          EXPECT_LT(report.iterations, 15);
+          const auto note = note_with(M, "block 'ale' takes the aggregates of 'fluid'");
+          EXPECT_NE(note.find("4225 of 4225 nodes matched"), std::string::npos) << note;
+          expect_fast_solve(system, M);
         }
       else
         EXPECT_GT(differing, 0);
@@ -681,14 +704,11 @@ TEST(FullyCoupledAmg, FluidTakesTheStructuresInterfaceAggregatesAndAggregatesThe
   // aggregates/fluid=structure" the fluid's interface nodes take the structure's aggregates on
   // every level (one coarse interface), its other nodes are aggregated on its own graph (no
   // one-node aggregates, as the plain follower would make them) and grow those aggregates.
-  const auto   system = coupled_fields_2d(comm(), {3, false});
-  SetupOptions keep;
-  keep.keep_aggregates = true;
+  const auto system = coupled_fields_2d(comm(), {3, false});
   for (const std::string fluid : {"structure", "own"})
     {
-      Preset preset = load_preset("fully-coupled-sa-amg(bgs)");
-      apply_overrides(preset, {"coarse: max size=200", "block aggregates/fluid=" + fluid});
-      BlockPreconditioner M(system, preset, keep);
+      const auto  preconditioner = with_block_aggregates(system, "fluid=" + fluid);
+      const auto& M              = *preconditioner;
       ASSERT_EQ(M.info().levels.size(), 4u) << fluid;
       const long long differing = aggregates_differing(system, M, 1, 0);
       if (fluid == "own")
@@ -697,15 +717,13 @@ TEST(FullyCoupledAmg, FluidTakesTheStructuresInterfaceAggregatesAndAggregatesThe
           continue;
         }
       EXPECT_EQ(differing, 0);
-      const auto note = std::find_if(M.info().notes.begin(), M.info().notes.end(), [](const auto& n) {
-        return n.find("block 'fluid' takes the aggregates of 'structure'") != std::string::npos;
-      });
-      ASSERT_NE(note, M.info().notes.end());
       // 65 x 65 fluid nodes, the column x = 1 matched (on 2 ranks: each rank its own part of it)
-      EXPECT_NE(note->find(" of 4225 nodes matched (the others aggregated on its own graph)"),
+      const auto note = note_with(M, "block 'fluid' takes the aggregates of 'structure'");
+      EXPECT_NE(note.find(" of 4225 nodes matched (the others aggregated on its own graph)"),
                 std::string::npos)
-          << *note;
-      // level 1: fluid aggregates of several nodes, about as many as on its own (3 DOFs each)
+          << note;
+      // level 1: no one-node fluid aggregate, more than 4 nodes per aggregate on average (a coarse
+      // fluid node has 3 DOFs)
       const auto&       fluid_levels = M.aggregates().at(1).levels;
       std::map<GO, int> size;
       for (const GO a : fluid_levels.at(1))
@@ -716,12 +734,7 @@ TEST(FullyCoupledAmg, FluidTakesTheStructuresInterfaceAggregatesAndAggregatesThe
       Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, singletons, Teuchos::outArg(singletons));
       EXPECT_EQ(singletons, 0);
       EXPECT_LT(M.info().levels[1].block_rows[1], 3 * 4225 / 4);
-      auto         x = MVF::Build(system.full_map(), 1, true);
-      SolveOptions options;
-      options.tolerance = 1e-6;
-      const auto report = solve(system, M, *x, options);
-      EXPECT_TRUE(report.converged) << report.failure;
-      EXPECT_LT(report.iterations, 15);
+      expect_fast_solve(system, M);
     }
 }
 
