@@ -216,7 +216,7 @@ namespace multigrid
     if (p.smoother_check_seconds > 0)
       out << "smoother check s    " << p.smoother_check_seconds
           << " (once per run in the apps; not in the set-up)\n";
-    out << std::fixed << std::setprecision(3) << "solve seconds       " << r.solve_seconds << "\n"
+    out << "solve seconds       " << r.solve_seconds << "\n"
         << std::setprecision(1) << "peak memory per rank max " << r.peak_memory_mb_max << " MB, mean "
         << r.peak_memory_mb_mean << " MB\n"
         << std::defaultfloat;

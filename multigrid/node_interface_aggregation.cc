@@ -147,9 +147,7 @@ namespace multigrid
         n_aggregates = aggregate_free_nodes(local_node_graph(*A, dpn, n_local), assigned, dirichlet, copied);
         for (LO a = copied; a < n_aggregates; ++a)
           (*coarse_to_leader)[a] = no_primal_node; // a coarse node of the follower only
-        for (LO i = 0; i < n_local; ++i)
-          if (!dirichlet[i])
-            vertex_to_aggregate[i] = assigned[i];
+        std::copy(assigned.begin(), assigned.end(), vertex_to_aggregate.begin()); // excluded: still -1
       }
     aggregates->SetNumAggregates(n_aggregates);
     aggregates->AggregatesCrossProcessors(false);
