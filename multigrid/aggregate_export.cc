@@ -197,12 +197,13 @@ namespace multigrid
         const auto& name = factories.name(it);
         if (factory_kind(factories, name) == "BlockedPFactory")
           fields = aggregation_factories(factories, factories.sublist(name));
-        else if (factory_kind(factories, name) == "BlockedRAPFactory")
+        else if (factory_kind(factories, name) == "BlockedRAPFactory" ||
+                 factory_kind(factories, name) == "BlockedGalerkinFactory")
           raps.push_back(name);
       }
     if (fields.empty() || raps.size() != 1)
-      throw InputError(
-          "exporting aggregates needs a MueLu list with one BlockedPFactory and one BlockedRAPFactory");
+      throw InputError("exporting aggregates needs a MueLu list with one BlockedPFactory and one "
+                       "BlockedRAPFactory or BlockedGalerkinFactory");
     auto& transfers = factories.sublist(raps.front()).sublist("TransferFactories");
     for (std::size_t k = 0; k < fields.size(); ++k)
       {

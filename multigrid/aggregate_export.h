@@ -6,8 +6,9 @@
 // How they are obtained. MueLu keeps no aggregates after the set-up, and a blocked hierarchy's
 // aggregation factories live inside its factory groups, out of reach of the hierarchy's keep
 // flags. So the blocked list gets one more transfer factory per field, hung on its Galerkin
-// product (BlockedRAPFactory's "TransferFactories", run once per coarse level): it asks the field's
-// aggregation factory for its aggregates of the finer level and stores, as user data on that
+// product (the "TransferFactories" of BlockedRAPFactory or of the project's BlockedGalerkinFactory,
+// run once per coarse level): it asks the field's aggregation factory for its aggregates of the
+// finer level and stores, as user data on that
 // level, the local aggregate of every owned node. After the set-up, the levels are composed: the
 // nodes of level l + 1 are the aggregates of level l in their local order (MueLu's coarse maps
 // number them so, and without repartitioning a coarse node stays on the rank of its aggregate),
@@ -42,8 +43,9 @@ namespace multigrid
   };
 
   /// Adds the recording transfer factories to a factory-style blocked MueLu list (one with a
-  /// BlockedPFactory whose groups name their "Aggregates", and a BlockedRAPFactory). Throws
-  /// InputError when the list has no such structure (e.g. a single-field preset).
+  /// BlockedPFactory whose groups name their "Aggregates", and a BlockedRAPFactory or
+  /// BlockedGalerkinFactory). Throws InputError when the list has no such structure (e.g. a
+  /// single-field preset).
   void record_aggregates(Teuchos::ParameterList& muelu);
 
   /// The recorder named "AggregateRecordFactory" in a MueLu list (for ProjectFactoryFactory):

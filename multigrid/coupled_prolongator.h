@@ -29,6 +29,7 @@
 #include <MueLu_PFactory.hpp>
 
 #include <set>
+#include <vector>
 
 namespace multigrid
 {
@@ -49,7 +50,10 @@ namespace multigrid
   RCP<BlockedCrsMatrix> coupled_smoothed_prolongator(const BlockedCrsMatrix& A, const BlockedCrsMatrix& Pt,
                                                      const CoupledSmoothing& settings);
 
-  /// R A P block by block (any blocks of P and R, each block's sums fill-complete).
+  /// R A P block by block (any blocks of P and R, each block's sums fill-complete). With
+  /// block-diagonal P and R each block is R_ii A_ij P_jj, A_ij multiplied first with the transfer
+  /// that has fewer entries per row of P (the same product, fewer flops where the fields' transfers
+  /// differ: a tentative fluid beside a smoothed ALE field).
   RCP<BlockedCrsMatrix> blocked_galerkin_product(const BlockedCrsMatrix& R, const BlockedCrsMatrix& A,
                                                  const BlockedCrsMatrix& P);
 
@@ -79,12 +83,20 @@ namespace multigrid
   };
 
   /// "A" = R A P of the blocked operators (MueLu 13.2's BlockedRAPFactory fails where a block of
-  /// the product sums more than two products, as a 3 x 3 system with a coupled P does).
+  /// the product sums more than two products, as a 3 x 3 system with a coupled P does, and forms
+  /// A P first in every block). Like BlockedRAPFactory it runs the factories of its XML sublist
+  /// "TransferFactories" after each product (aggregate_export.h hangs its recorders there).
   class BlockedGalerkinFactory : public MueLu::TwoLevelFactoryBase
   {
   public:
     RCP<const Teuchos::ParameterList> GetValidParameterList() const override;
     void                              DeclareInput(MueLu::Level& fine, MueLu::Level& coarse) const override;
     void                              Build(MueLu::Level& fine, MueLu::Level& coarse) const override;
+    /// A factory built on the coarse level after the product (MueLu's FactoryFactory calls this
+    /// for every entry of "TransferFactories").
+    void AddTransferFactory(const RCP<const MueLu::FactoryBase>& factory) { transfers_.push_back(factory); }
+
+  private:
+    std::vector<RCP<const MueLu::FactoryBase>> transfers_;
   };
 } // namespace multigrid

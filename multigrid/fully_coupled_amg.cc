@@ -395,7 +395,9 @@ namespace multigrid
       }
     else
       factory(f, "BlockedR", "GenericRFactory").set("P", prolongator);
-    List& rap = factory(f, "BlockedRAP", across ? "BlockedGalerkinFactory" : "BlockedRAPFactory");
+    // the project's Galerkin product: MueLu 13.2's BlockedRAPFactory fails on a third product
+    // in one block (a coupled P) and always forms A P first (coupled_prolongator.h)
+    List& rap = factory(f, "BlockedRAP", "BlockedGalerkinFactory");
     rap.set("P", prolongator);
     rap.set("R", "BlockedR");
     // 4. block Gauss-Seidel with one sub-smoother per field.

@@ -12,10 +12,13 @@
 //   4. level smoother: `smoother: sweeps` x block Gauss-Seidel with damping `smoother: damping`,
 //      one sub-smoother per block (Ifpack2 through MueLu's TrilinosSmoother, or SuperLU);
 //   5. coarse solve: the project's SuperLU on the merged coarse operator.
-// MueLu 13.2's blocked factories do all of this (SubBlockAFactory, UncoupledAggregationFactory,
+// MueLu 13.2's blocked factories do the transfers (SubBlockAFactory, UncoupledAggregationFactory,
 // TentativePFactory, SaPFactory, CoarseMapFactory/BlockedCoarseMapFactory, BlockedPFactory,
-// GenericRFactory, BlockedRAPFactory, BlockedGaussSeidelSmoother); only the coarse solver is the
-// project's own (SuperLUDirectSolver, project_factories.h: 13.2's BlockedDirectSolver ignores its
+// GenericRFactory). The project's own: the Galerkin product (BlockedGalerkinFactory,
+// coupled_prolongator.h: each block R_ii A_ij P_jj with A_ij first multiplied by the sparser
+// transfer, 0.9x the set-up of MueLu's BlockedRAPFactory on the tube, which always forms A P
+// first), the level smoother (block_gauss_seidel_smoother.h), the fluid's ILU(0) and the coarse
+// solver (SuperLUDirectSolver, project_factories.h: 13.2's BlockedDirectSolver ignores its
 // parameters and uses Amesos2 KLU2, which has no SuperLU here and is inexact on several ranks).
 // The factory list is written here for the system's number of blocks (an XML template would fix
 // n); solve_block_system --print-xml prints it.

@@ -419,7 +419,7 @@ namespace multigrid
     if (name == "BlockedTransposeFactory")
       return this->template Build2<BlockedTransposeFactory>(list, factories, managers);
     if (name == "BlockedGalerkinFactory")
-      return this->template Build2<BlockedGalerkinFactory>(list, factories, managers);
+      return this->template BuildRAPFactory<BlockedGalerkinFactory>(list, factories, managers);
     if (name == "SpaiSimpleSmoother")
       return this->template BuildBlockedSmoother<SpaiSimpleSmoother>(list, factories, managers);
     if (name == "BlockGaussSeidelSmoother")

@@ -266,3 +266,44 @@ TEST(CoupledProlongator, TransposeAndGalerkinProductOfThreeBlocks)
   EXPECT_NEAR(dot(*x2, *apply(*Ac->Merge(), *x)), dot(*apply(*Ac->Merge(), *x2), *x),
               1e-12 * norm(*x) * norm(*x2) * 10);
 }
+
+TEST(CoupledProlongator, GalerkinProductOfBlockDiagonalTransfersOfUnequalDensity)
+{
+  // Block-diagonal P whose blocks differ in density: the tentative one (one entry per row) on
+  // block 0, smoothed ones on blocks 1 and 2 (the diagonal blocks of the coupled P, three entries
+  // per row). Blocks (0, 1) and (1, 0) are then associated differently ((R_00 A_01) P_11 and
+  // R_11 (A_10 P_00)); every block must still be the Galerkin product of the merged operators.
+  const auto c       = cut_laplacian({6, 8, 10});
+  const auto coupled = coupled_smoothed_prolongator(*c.A, *c.Pt, {});
+  auto       rows    = c.Pt->getRangeMapExtractor();
+  auto       columns = c.Pt->getDomainMapExtractor();
+  auto       P       = Teuchos::rcp(new BlockedCrsMatrix(rows, columns, 3));
+  P->setMatrix(0, 0, c.Pt->getMatrix(0, 0));
+  P->setMatrix(1, 1, coupled->getMatrix(1, 1));
+  P->setMatrix(2, 2, coupled->getMatrix(2, 2));
+  P->fillComplete();
+  ASSERT_LT(entries(P->getMatrix(0, 0)), entries(P->getMatrix(1, 1)));
+  const auto R  = blocked_transpose(*P);
+  const auto Ac = blocked_galerkin_product(*R, *c.A, *P);
+  const auto Pm = P->Merge();
+  auto       x  = MVF::Build(Pm->getDomainMap(), 1);
+  x->randomize();
+  const auto direct   = apply(*Ac->Merge(), *x);
+  const auto chained  = apply(*R->Merge(), *apply(*c.A->Merge(), *apply(*Pm, *x)));
+  auto       residual = MVF::Build(direct->getMap(), 1);
+  residual->update(1.0, *direct, -1.0, *chained, 0.0);
+  EXPECT_LT(norm(*residual), 1e-12 * norm(*chained));
+  // block-diagonal transfers keep A's block pattern: (0, 2) and (2, 0) stay empty
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j)
+      {
+        if (std::abs(static_cast<long>(i) - static_cast<long>(j)) <= 1)
+          EXPECT_GT(entries(Ac->getMatrix(i, j)), 0) << i << ", " << j;
+        else
+          EXPECT_EQ(entries(Ac->getMatrix(i, j)), 0) << i << ", " << j;
+      }
+  auto x2 = MVF::Build(Pm->getDomainMap(), 1);
+  x2->randomize();
+  EXPECT_NEAR(dot(*x2, *apply(*Ac->Merge(), *x)), dot(*apply(*Ac->Merge(), *x2), *x),
+              1e-12 * norm(*x) * norm(*x2) * 10);
+}
