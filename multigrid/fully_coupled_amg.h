@@ -16,7 +16,7 @@
 // TentativePFactory, SaPFactory, CoarseMapFactory/BlockedCoarseMapFactory, BlockedPFactory,
 // GenericRFactory). The project's own: the Galerkin product (BlockedGalerkinFactory,
 // coupled_prolongator.h: each block R_ii A_ij P_jj with A_ij first multiplied by the sparser
-// transfer, 0.9x the set-up of MueLu's BlockedRAPFactory on the tube, which always forms A P
+// transfer: 0.83-0.93x the SA set-up of MueLu's BlockedRAPFactory on the tube, which forms A P
 // first), the level smoother (block_gauss_seidel_smoother.h), the fluid's ILU(0) and the coarse
 // solver (SuperLUDirectSolver, project_factories.h: 13.2's BlockedDirectSolver ignores its
 // parameters and uses Amesos2 KLU2, which has no SuperLU here and is inexact on several ranks).
