@@ -23,6 +23,13 @@ namespace multigrid
     using Vector    = Xpetra::Vector<SC, LO, GO, NO>;
     using Utilities = MueLu::Utilities<SC, LO, GO, NO>;
 
+    /// The stream Xpetra's matrix-matrix kernels write their diagnostics to: nowhere.
+    Teuchos::FancyOStream& quiet_stream()
+    {
+      static Teuchos::FancyOStream quiet(Teuchos::rcp(new Teuchos::oblackholestream()));
+      return quiet;
+    }
+
     /// The entries of every block of M over all ranks, with one reduction for all blocks
     /// (counted here: MueLu's tentative prolongators are filled without Tpetra's global
     /// constants). entries[i][j] for block (i, j).
@@ -156,7 +163,7 @@ namespace multigrid
     RCP<Matrix> smoothed_block(const Matrix& Aij, const RCP<Matrix>& Ptjj, const Vector& inverse_diagonal,
                                double omega, bool diagonal)
     {
-      Teuchos::FancyOStream quiet(Teuchos::rcp(new Teuchos::oblackholestream()));
+      auto&                 quiet = quiet_stream();
       RCP<Matrix>           AP =
           Xpetra::MatrixMatrix<SC, LO, GO, NO>::Multiply(Aij, false, *Ptjj, false, quiet, true, true);
       // rows scaled by -omega D_i^-1 (Tpetra scales the values of a fill-complete matrix only row-wise)
@@ -178,7 +185,7 @@ namespace multigrid
                                 const BlockedCrsMatrix& Y, const std::vector<std::vector<bool>>& Y_filled,
                                 std::size_t i, std::size_t j)
     {
-      Teuchos::FancyOStream quiet(Teuchos::rcp(new Teuchos::oblackholestream()));
+      auto&                 quiet = quiet_stream();
       RCP<Matrix>           sum;
       for (std::size_t l = 0; l < X.Cols(); ++l)
         {
@@ -284,7 +291,7 @@ namespace multigrid
       const auto rows = P.getMatrix(k, k)->getRangeMap()->getGlobalNumElements();
       return rows > 0 ? static_cast<double>(P_entries[k][k]) / static_cast<double>(rows) : 0.0;
     };
-    Teuchos::FancyOStream quiet(Teuchos::rcp(new Teuchos::oblackholestream()));
+    auto& quiet         = quiet_stream();
     using MM            = Xpetra::MatrixMatrix<SC, LO, GO, NO>;
     const auto A_filled = filled_blocks(A);
     auto       rows     = R.getRangeMapExtractor();
