@@ -5,9 +5,12 @@
                   per wall; s = 1, 2, 4 give 1209, 4453, 17061 DOFs); the Newton systems of the
                   first two time steps, exported once by the fsi app (direct solves);
   --case tube     the 3D pressure-wave tube of apps/fsi_tube_3d.prm at gmsh refinement s
-                  (s = 1, 2, 3: 4.2 k, 25 k, 75 k DOFs); the Newton systems of the first two time
-                  steps (the pulse entering the tube), exported by the fsi app solving with
-                  fully-coupled-sa-amg(bgs) (SuperLU: 9.6 s and 0.9 GB per system at s = 2);
+                  (s = 1 ... 6: 4.2 k, 25 k, 75 k, 168 k, 316 k, 532 k DOFs); the Newton systems
+                  of the first two time steps (the pulse entering the tube), exported by the fsi
+                  app solving with fully-coupled-sa-amg(bgs) (on 2 ranks here 0.6 / 1.6 / 3.9 /
+                  7.6 / 14 minutes for s = 2 ... 6, peak 2.7 / 5.0 GB per rank at s = 5 / 6;
+                  SuperLU: 9.6 s and 0.9 GB per system at s = 2, 5 GB at s = 3: leave
+                  direct(superlu) out above that with --presets);
   --case turek-hron  the Turek-Hron FSI1 channel of apps/fsi_turek_hron.prm at gmsh refinement s
                   (s = 1, 2, 3); the 5 Newton systems of its first (pseudo-)time step, dt = 20 s:
                   from rest to the full inflow and nearly the steady state (Navier-Stokes at
@@ -38,7 +41,7 @@ Presets (multigrid/presets, with overrides):
                                            [--ranks 1] [--presets P ...] [--json F] [--reuse-systems]
                                            [--repeat K]
 --reuse-systems solves the systems an earlier run left in OUT/CASESIZE/systems instead of running
-the fsi app again (the tube at refine 4, 168 k DOFs, takes about 10 minutes to export on 2 ranks).
+the fsi app again.
 The presets take turns system by system; --repeat K solves every system K times and keeps each
 preset's fastest run (the seconds of one run move by up to 40 % on a shared machine).
 Exit status 1 if a solve does not converge.
