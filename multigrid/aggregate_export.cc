@@ -195,10 +195,10 @@ namespace multigrid
     for (auto it = factories.begin(); it != factories.end(); ++it)
       {
         const auto& name = factories.name(it);
-        if (factory_kind(factories, name) == "BlockedPFactory")
+        const auto  kind = factory_kind(factories, name);
+        if (kind == "BlockedPFactory")
           fields = aggregation_factories(factories, factories.sublist(name));
-        else if (factory_kind(factories, name) == "BlockedRAPFactory" ||
-                 factory_kind(factories, name) == "BlockedGalerkinFactory")
+        else if (kind == "BlockedRAPFactory" || kind == "BlockedGalerkinFactory")
           raps.push_back(name);
       }
     if (fields.empty() || raps.size() != 1)
